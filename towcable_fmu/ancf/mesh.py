@@ -1,0 +1,139 @@
+"""Build the compiled cable model from a scene: mesh, constant matrices, end conditions.
+
+Everything constant is computed here once (mass, bending and damping matrices,
+gravity loads, the map from coordinates to unknowns and the band widths), so the
+compiled kernels only do per-step work.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ..errors import SceneError
+from ..scene.model import End, Scene
+from . import element
+from .prescribed import FIXED_POINT, FIXED_SLOPE, SHIP_POINT, SHIP_SLOPE
+from .system import CableModel
+
+#: Gauss points per element for the axial force (exact for its polynomial integrands).
+AXIAL_GAUSS_POINTS = 5
+
+
+@dataclasses.dataclass(frozen=True)
+class Mesh:
+    """Element layout of the cable.
+
+    Attributes
+    ----------
+    lengths
+        Unstretched element lengths [m], shape (ne,).
+    segment_of_element
+        Index of the segment each element belongs to, shape (ne,).
+    node_arc
+        Unstretched arc length of every node from the top end [m], shape (ne + 1,).
+    """
+
+    lengths: np.ndarray
+    segment_of_element: np.ndarray
+    node_arc: np.ndarray
+
+    @property
+    def n_elements(self) -> int:
+        """Number of elements."""
+        return int(self.lengths.shape[0])
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of nodes."""
+        return self.n_elements + 1
+
+
+def build_mesh(scene: Scene) -> Mesh:
+    """Equal elements within each segment, segments from the top end down."""
+    lengths, seg = [], []
+    for i, s in enumerate(scene.cable.segments):
+        lengths += [s.length / s.elements] * s.elements
+        seg += [i] * s.elements
+    lengths_arr = np.array(lengths)
+    return Mesh(lengths_arr, np.array(seg, dtype=np.int64), np.concatenate([[0.0], np.cumsum(lengths_arr)]))
+
+
+def _attachments(end: End, node: int, key: str, sign: float) -> list[tuple[int, int, np.ndarray]]:
+    """(first coordinate, kind, vector) triples of one end condition."""
+    out: list[tuple[int, int, np.ndarray]] = []
+    if end.type == "free":
+        return out
+    ship = end.frame == "ship"
+    out.append((6 * node, SHIP_POINT if ship else FIXED_POINT, np.array(end.position, dtype=float)))
+    if end.type == "clamped":
+        direction = np.array(end.slope, dtype=float)
+        direction = sign * direction / np.linalg.norm(direction)
+        out.append((6 * node + 3, SHIP_SLOPE if ship else FIXED_SLOPE, direction))
+    return out
+
+
+def _band_width(free_idx: np.ndarray, n_elements: int) -> int:
+    width = 0
+    for e in range(n_elements):
+        idx = free_idx[6 * e: 6 * e + 12]
+        idx = idx[idx >= 0]
+        if idx.size:
+            width = max(width, int(idx.max() - idx.min()))
+    return width
+
+
+def build_model(scene: Scene, mesh: Mesh) -> CableModel:
+    """Compile-ready arrays for ``scene`` meshed as ``mesh``.
+
+    Raises
+    ------
+    SceneError
+        If the end conditions leave the system without any support.
+    """
+    segs = scene.cable.segments
+    ne, nn = mesh.n_elements, mesh.n_nodes
+    nf = 6 * nn
+    g = scene.environment.gravity
+    el_len = mesh.lengths.copy()
+    props = [segs[i] for i in mesh.segment_of_element]
+    el_ea = np.array([p.EA for p in props])
+    el_tension_only = np.array([not p.compression for p in props])
+    el_mass = np.stack([element.mass_matrix(L, p.mass_per_length) for L, p in zip(el_len, props)])
+    el_bend = np.stack([element.bending_matrix(L, p.EI) for L, p in zip(el_len, props)])
+    el_damp = np.stack([element.damping_matrix(L, p.damping) for L, p in zip(el_len, props)])
+
+    f_const = np.zeros(nf)
+    for e, (L, p) in enumerate(zip(el_len, props)):
+        load = element.load_vector(L) * (-p.mass_per_length * g)
+        for i in range(4):
+            f_const[6 * e + 3 * i + 2] += load[i]
+    node_mass = np.zeros((nn, 3))
+    if scene.towbody is not None:
+        node_mass[-1, :] = scene.towbody.mass
+        f_const[6 * (nn - 1) + 2] -= scene.towbody.mass * g
+
+    att = _attachments(scene.cable.top, 0, "cable.top", 1.0) + \
+        _attachments(scene.cable.bottom, nn - 1, "cable.bottom", -1.0)
+    prescribed = np.zeros(nf, dtype=bool)
+    for i0, _, _ in att:
+        prescribed[i0:i0 + 3] = True
+    free_dofs = np.flatnonzero(~prescribed)
+    free_idx = np.full(nf, -1, dtype=np.int64)
+    free_idx[free_dofs] = np.arange(free_dofs.size)
+    if not any(kind in (FIXED_POINT, SHIP_POINT) for _, kind, _ in att):
+        raise SceneError("cable.top.type", scene.cable.top.type, "an end with a prescribed position")
+    width = _band_width(free_idx, ne)
+
+    gx, gw = element.gauss_legendre(AXIAL_GAUSS_POINTS)
+    return CableModel(
+        el_len=el_len, el_ea=el_ea, el_tension_only=el_tension_only, el_mass=el_mass, el_bend=el_bend,
+        el_damp=el_damp, f_const=f_const, node_mass=node_mass,
+        gauss_dn=element.shape_derivatives(gx, 1.0), gauss_w=gw,
+        free_idx=free_idx, free_dofs=free_dofs.astype(np.int64), kl=width, ku=width,
+        att_index=np.array([a[0] for a in att], dtype=np.int64),
+        att_kind=np.array([a[1] for a in att], dtype=np.int64),
+        att_vec=np.array([a[2] for a in att], dtype=float).reshape(-1, 3),
+        att_radius=np.zeros(len(att)),
+    )

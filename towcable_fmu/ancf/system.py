@@ -1,0 +1,175 @@
+"""Assembly of the cable system: residual and banded iteration matrix.
+
+Global coordinates: node ``n`` owns ``x[6n:6n+3] = r`` and ``x[6n+3:6n+6] = r_p``
+(shared nodal coordinates embed position and slope continuity, W(123)-(132): 6N+6
+coordinates for N elements). Element ``e`` uses ``x[6e:6e+12]``.
+
+The equations of motion are written as the residual
+
+    R(q, v, a, t) = M a + C v + K_b q + Q_l(q) - Q_g - Q_ext(q, v, t) = 0
+
+over all coordinates; rows of free coordinates are the equations, rows of prescribed
+coordinates are the reaction forces. Constant element matrices are Kronecker products
+``m (x) I_3`` of 4x4 factors and are applied as such.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from .axial import axial_force, axial_tangent, slope_derivatives
+
+
+class CableModel(NamedTuple):
+    """Everything the compiled kernels need about one cable system (arrays only).
+
+    Sizes: ``ne`` elements, ``nn = ne + 1`` nodes, ``nf = 6 nn`` coordinates.
+    """
+
+    el_len: np.ndarray          #: (ne,) unstretched element lengths [m]
+    el_ea: np.ndarray           #: (ne,) axial stiffness EA [N]
+    el_tension_only: np.ndarray  #: (ne,) bool: no axial force in compression
+    el_mass: np.ndarray         #: (ne, 4, 4) mass factor [kg...]
+    el_bend: np.ndarray         #: (ne, 4, 4) bending stiffness factor
+    el_damp: np.ndarray         #: (ne, 4, 4) internal damping factor
+    f_const: np.ndarray         #: (nf,) constant generalised load (gravity of cable and point masses) [N]
+    node_mass: np.ndarray       #: (nn, 3) lumped mass at node positions, per axis [kg]
+    gauss_dn: np.ndarray        #: (ng, 4) dn/dxi of the normalised Hermite functions at Gauss points
+    gauss_w: np.ndarray         #: (ng,) Gauss weights on [0, 1]
+    free_idx: np.ndarray        #: (nf,) unknown index of each coordinate, -1 if prescribed
+    free_dofs: np.ndarray       #: (n,) coordinate index of each unknown
+    kl: int                     #: sub-diagonals of the iteration matrix
+    ku: int                     #: super-diagonals of the iteration matrix
+    att_index: np.ndarray       #: (na,) first coordinate of each prescribed triple
+    att_kind: np.ndarray        #: (na,) attachment kind (see prescribed.py)
+    att_vec: np.ndarray         #: (na, 3) attachment vector
+    att_radius: np.ndarray      #: (na,) winch radius for winch attachments [m]
+
+
+@njit(cache=True)
+def _kron_apply(mat: np.ndarray, x: np.ndarray, base: int, out: np.ndarray) -> None:
+    """out[base:base+12] += (mat (x) I3) x[base:base+12]."""
+    for i in range(4):
+        for j in range(4):
+            mij = mat[i, j]
+            if mij != 0.0:
+                for c in range(3):
+                    out[base + 3 * i + c] += mij * x[base + 3 * j + c]
+
+
+@njit(cache=True)
+def residual(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: float, ship: np.ndarray,
+             out: np.ndarray) -> float:
+    """Residual of the equations of motion over all coordinates.
+
+    Parameters
+    ----------
+    model
+        The cable system.
+    q, v, a
+        Full coordinates [m, -], velocities and accelerations (prescribed entries set).
+    t
+        Time [s].
+    ship
+        Ship state (3, 6) at time t (moves the winch and sheave surfaces).
+    out
+        Output residual, shape (nf,) [N, N m].
+
+    Returns
+    -------
+    float
+        Total axial strain energy [J] (a by-product, used for energy outputs).
+    """
+    ne = model.el_len.shape[0]
+    ng = model.gauss_w.shape[0]
+    d = np.empty((ng, 4))
+    lam = np.empty(ng)
+    u = np.empty((ng, 3))
+    fe = np.empty(12)
+    for i in range(out.shape[0]):
+        out[i] = -model.f_const[i]
+    energy = 0.0
+    for e in range(ne):
+        base = 6 * e
+        _kron_apply(model.el_mass[e], a, base, out)
+        _kron_apply(model.el_damp[e], v, base, out)
+        _kron_apply(model.el_bend[e], q, base, out)
+        length = model.el_len[e]
+        slope_derivatives(model.gauss_dn, length, d)
+        fe[:] = 0.0
+        energy += axial_force(q[base:base + 12], length, model.el_ea[e], model.el_tension_only[e],
+                              d, model.gauss_w, lam, u, fe)
+        for i in range(12):
+            out[base + i] += fe[i]
+    nn = model.node_mass.shape[0]
+    for n in range(nn):
+        for c in range(3):
+            out[6 * n + c] += model.node_mass[n, c] * a[6 * n + c]
+    return energy
+
+
+@njit(cache=True)
+def _scatter(model: CableModel, base: int, ke: np.ndarray, ab: np.ndarray) -> None:
+    """Add a 12x12 element block at coordinates base..base+11 into band storage."""
+    off = model.kl + model.ku
+    for i in range(12):
+        fi = model.free_idx[base + i]
+        if fi < 0:
+            continue
+        for j in range(12):
+            fj = model.free_idx[base + j]
+            if fj < 0:
+                continue
+            val = ke[i, j]
+            if val != 0.0:
+                ab[off + fi - fj, fj] += val
+
+
+@njit(cache=True)
+def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, ship: np.ndarray,
+                     ca: float, cv: float, cq: float, ab: np.ndarray) -> None:
+    """Banded iteration matrix ``ca M + cv C + cq K`` over the free coordinates.
+
+    Parameters
+    ----------
+    model
+        The cable system.
+    q, v
+        Full coordinates and velocities at which the tangents are evaluated.
+    t, ship
+        Time [s] and ship state (3, 6).
+    ca, cv, cq
+        Weights of the mass, damping and stiffness parts.
+    ab
+        Output band storage, shape (2 kl + ku + 1, n); overwritten.
+    """
+    ab[:, :] = 0.0
+    ne = model.el_len.shape[0]
+    ng = model.gauss_w.shape[0]
+    d = np.empty((ng, 4))
+    lam = np.empty(ng)
+    u = np.empty((ng, 3))
+    ke = np.empty((12, 12))
+    for e in range(ne):
+        base = 6 * e
+        ke[:, :] = 0.0
+        for i in range(4):
+            for j in range(4):
+                val = ca * model.el_mass[e, i, j] + cv * model.el_damp[e, i, j] + cq * model.el_bend[e, i, j]
+                for c in range(3):
+                    ke[3 * i + c, 3 * j + c] = val
+        length = model.el_len[e]
+        slope_derivatives(model.gauss_dn, length, d)
+        axial_tangent(q[base:base + 12], length, model.el_ea[e], model.el_tension_only[e],
+                      d, model.gauss_w, lam, u, cq, ke)
+        _scatter(model, base, ke, ab)
+    off = model.kl + model.ku
+    nn = model.node_mass.shape[0]
+    for n in range(nn):
+        for c in range(3):
+            fi = model.free_idx[6 * n + c]
+            if fi >= 0:
+                ab[off, fi] += ca * model.node_mass[n, c]

@@ -1,0 +1,101 @@
+"""Banded LU factorisation with partial pivoting, compiled.
+
+Storage follows LAPACK's ``dgbtrf`` convention: an ``n x n`` matrix with ``kl``
+sub-diagonals and ``ku`` super-diagonals lives in ``ab`` of shape
+``(2*kl + ku + 1, n)`` with ``A[i, j] = ab[kl + ku + i - j, j]``; the first ``kl`` rows
+are workspace for the fill-in that row interchanges create. Calling scipy or LAPACK
+from inside the compiled time loop is not possible, and a Python call per step costs
+more than the step itself, so this is our own implementation of the unblocked
+algorithm (column-wise elimination, pivot search within the band).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def band_add(ab: np.ndarray, kl: int, ku: int, i: int, j: int, value: float) -> None:
+    """Add ``value`` to ``A[i, j]`` (no bounds check beyond the band: caller's duty)."""
+    ab[kl + ku + i - j, j] += value
+
+
+@njit(cache=True)
+def band_lu(ab: np.ndarray, n: int, kl: int, ku: int, ipiv: np.ndarray) -> int:
+    """Factorise the banded matrix in place: ``P A = L U``.
+
+    Parameters
+    ----------
+    ab
+        Band storage (see module docstring); overwritten by the factors.
+    n, kl, ku
+        Order and bandwidths.
+    ipiv
+        Output pivot indices, shape (n,).
+
+    Returns
+    -------
+    int
+        0 on success, ``j + 1`` if ``U[j, j]`` is exactly zero (singular matrix).
+    """
+    kv = kl + ku
+    ju = 0
+    info = 0
+    for j in range(n):
+        km = min(kl, n - 1 - j)
+        jp = 0
+        best = abs(ab[kv, j])
+        for i in range(1, km + 1):
+            val = abs(ab[kv + i, j])
+            if val > best:
+                best = val
+                jp = i
+        ipiv[j] = j + jp
+        if ab[kv + jp, j] == 0.0:
+            if info == 0:
+                info = j + 1
+            continue
+        ju = max(ju, min(j + ku + jp, n - 1))
+        if jp != 0:
+            for c in range(j, ju + 1):
+                r1 = kv + j - c
+                r2 = r1 + jp
+                tmp = ab[r1, c]
+                ab[r1, c] = ab[r2, c]
+                ab[r2, c] = tmp
+        if km > 0:
+            inv = 1.0 / ab[kv, j]
+            for i in range(1, km + 1):
+                ab[kv + i, j] *= inv
+            for c in range(j + 1, ju + 1):
+                ujc = ab[kv + j - c, c]
+                if ujc != 0.0:
+                    base = kv + j - c
+                    for i in range(1, km + 1):
+                        ab[base + i, c] -= ab[kv + i, j] * ujc
+    return info
+
+
+@njit(cache=True)
+def band_solve(ab: np.ndarray, n: int, kl: int, ku: int, ipiv: np.ndarray, b: np.ndarray) -> None:
+    """Solve ``A x = b`` in place (``b`` becomes ``x``) with the factors of :func:`band_lu`."""
+    kv = kl + ku
+    for j in range(n):
+        p = ipiv[j]
+        if p != j:
+            tmp = b[p]
+            b[p] = b[j]
+            b[j] = tmp
+        bj = b[j]
+        if bj != 0.0:
+            km = min(kl, n - 1 - j)
+            for i in range(1, km + 1):
+                b[j + i] -= ab[kv + i, j] * bj
+    for j in range(n - 1, -1, -1):
+        b[j] /= ab[kv, j]
+        bj = b[j]
+        if bj != 0.0:
+            lim = min(kv, j)
+            for i in range(1, lim + 1):
+                b[j - i] -= ab[kv - i, j] * bj

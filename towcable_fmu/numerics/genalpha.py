@@ -1,0 +1,434 @@
+"""Generalised-alpha time integration with modified Newton on a banded Jacobian, compiled.
+
+Scheme: Chung & Hulbert's generalised-alpha in the form of Arnold & Bruls (2007) for
+``M(q) a + F(q, v, t) = 0`` with an auxiliary acceleration ``abar``:
+
+    (1 - am) abar_{n+1} + am abar_n = (1 - af) a_{n+1} + af a_n
+    q_{n+1} = q_n + h v_n + h^2 ((1/2 - beta) abar_n + beta abar_{n+1})
+    v_{n+1} = v_n + h ((1 - gamma) abar_n + gamma abar_{n+1})
+    R(q_{n+1}, v_{n+1}, a_{n+1}, t_{n+1}) = 0
+
+with am = (2 rho - 1)/(rho + 1), af = rho/(rho + 1), gamma = 1/2 + af - am,
+beta = (gamma + 1/2)^2 / 4 for the spectral radius ``rho = rho_inf``: second order,
+unconditionally stable, high frequencies damped as set by ``rho_inf``. Equilibrium is
+enforced at t_{n+1}, so forces need no mid-point evaluation.
+
+Newton iterates on ``a_{n+1}`` with the iteration matrix ``M + gamma' C + beta' K``
+(``gamma' = h gamma (1-af)/(1-am)``, ``beta' = h^2 beta (1-af)/(1-am)``), factorised
+once and reused over steps while convergence is fast (modified Newton); it is
+refreshed when convergence slows, the step size changes, or it is too old.
+Convergence test (Hairer & Wanner): the estimated remaining error
+``theta/(1-theta) * |dq|`` is below ``newton_tol``, with the contraction rate theta of
+the previous step used on the first iteration.
+
+Local error estimate (Zienkiewicz & Xie): ``e = h^2 |beta - 1/6| |abar_{n+1} - abar_n|``,
+weighted by ``atol + rtol |q|``; it drives the step size in adaptive mode and is
+reported as a statistic otherwise. A step whose Newton iteration fails is retried
+with a fresh Jacobian, then with half the step; below ``min_time_step`` the call
+returns a failure code and leaves the state at the last accepted step.
+
+The winch rotation obeys the PD law W(136) and is integrated with the same scheme
+(exactly: the equation is linear); it does not depend on the cable, so it is solved
+first and then drives the cable end on the drum.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from ..ancf.prescribed import apply_prescribed
+from ..ancf.system import CableModel, iteration_matrix, residual
+from .banded import band_lu, band_solve
+
+OK = 0
+FAILED_MIN_STEP = 1
+NOT_FINITE = 2
+
+# indices into IntegratorState.stats
+STAT_STEPS = 0
+STAT_REJECTED = 1
+STAT_NEWTON = 2
+STAT_RESIDUALS = 3
+STAT_JACOBIANS = 4
+STAT_SINGULAR = 5
+STAT_NAMES = ("steps", "rejected_steps", "newton_iterations", "residual_evaluations",
+              "jacobian_factorisations", "singular_jacobians")
+
+# indices into IntegratorState.jac
+JAC_VALID = 0
+JAC_H = 1
+JAC_AGE = 2
+JAC_T = 3
+JAC_ETA = 4
+
+
+class SolverOptions(NamedTuple):
+    """Integrator settings (see :class:`~towcable_fmu.scene.model.SolverSettings`)."""
+
+    h_max: float
+    rho_inf: float
+    adaptive: bool
+    rtol: float
+    atol: float
+    newton_tol: float
+    max_iter: int
+    jac_max_age: int
+    h_min: float
+    winch_kp: float
+    winch_kd: float
+
+
+class IntegratorState(NamedTuple):
+    """The whole integrator state; every field is an array so it can be saved and restored."""
+
+    q: np.ndarray        #: (nf,) coordinates
+    v: np.ndarray        #: (nf,) velocities
+    a: np.ndarray        #: (nf,) accelerations
+    abar: np.ndarray     #: (nf,) auxiliary accelerations of the scheme
+    phi: np.ndarray      #: (4,) winch rotation, rate, acceleration, auxiliary acceleration
+    clock: np.ndarray    #: (3,) time [s], current step size [s], last error estimate [-]
+    jac: np.ndarray      #: (5,) valid, step size, age, time, Newton contraction estimate
+    jac_q: np.ndarray    #: (nf,) coordinates at which the Jacobian was evaluated
+    jac_v: np.ndarray    #: (nf,) velocities at which the Jacobian was evaluated
+    jac_ship: np.ndarray  #: (3, 6) ship state at which the Jacobian was evaluated
+    stats: np.ndarray    #: (6,) int64 counters (see STAT_NAMES)
+
+
+class Workspace(NamedTuple):
+    """Scratch arrays and the factorised iteration matrix (rebuilt from the state on restore)."""
+
+    ab: np.ndarray       #: band storage of the factorised iteration matrix
+    ipiv: np.ndarray     #: pivots
+    r: np.ndarray        #: (nf,) residual
+    dx: np.ndarray       #: (n,) Newton increment
+    q0: np.ndarray       #: (nf,) saved state at the start of a step
+    v0: np.ndarray
+    a0: np.ndarray
+    abar0: np.ndarray
+    ship: np.ndarray     #: (3, 6) ship state at the step end
+
+
+def new_state(nf: int) -> IntegratorState:
+    """A zero integrator state for ``nf`` coordinates."""
+    return IntegratorState(np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(4), np.zeros(3),
+                           np.zeros(5), np.zeros(nf), np.zeros(nf), np.zeros((3, 6)),
+                           np.zeros(len(STAT_NAMES), dtype=np.int64))
+
+
+def new_workspace(model: CableModel) -> Workspace:
+    """Scratch arrays sized for ``model``."""
+    nf = model.free_idx.shape[0]
+    n = model.free_dofs.shape[0]
+    return Workspace(np.zeros((2 * model.kl + model.ku + 1, n)), np.zeros(n, dtype=np.int64), np.zeros(nf),
+                     np.zeros(n), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros((3, 6)))
+
+
+@njit(cache=True)
+def scheme_coefficients(rho_inf: float):
+    """(am, af, gamma, beta) of the generalised-alpha scheme for ``rho_inf`` in [0, 1]."""
+    am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0)
+    af = rho_inf / (rho_inf + 1.0)
+    gamma = 0.5 + af - am
+    beta = 0.25 * (gamma + 0.5) ** 2
+    return am, af, gamma, beta
+
+
+@njit(cache=True)
+def evaluate_drive(t0: float, coef: np.ndarray, t: float, ship: np.ndarray) -> tuple:
+    """Ship state and winch set-point at time t from drive polynomials.
+
+    Parameters
+    ----------
+    t0
+        Start of the drive interval [s].
+    coef
+        Polynomial coefficients in ``tau = t - t0``, shape (7, k): rows 0-5 the ship
+        degrees of freedom (x, y, z [m], roll, pitch, yaw [rad]), row 6 the winch
+        set-point phi_sp [rad].
+    t
+        Evaluation time [s].
+    ship
+        Output ship state (3, 6).
+
+    Returns
+    -------
+    (phi_sp, phi_sp_rate)
+        Winch set-point [rad] and its rate [rad/s].
+    """
+    tau = t - t0
+    nk = coef.shape[1]
+    sp = 0.0
+    sp_rate = 0.0
+    for i in range(7):
+        p = 0.0
+        dp = 0.0
+        ddp = 0.0
+        for k in range(nk - 1, -1, -1):
+            ddp = ddp * tau + 2.0 * dp
+            dp = dp * tau + p
+            p = p * tau + coef[i, k]
+        if i < 6:
+            ship[0, i] = p
+            ship[1, i] = dp
+            ship[2, i] = ddp
+        else:
+            sp = p
+            sp_rate = dp
+    return sp, sp_rate
+
+
+@njit(cache=True)
+def _factorize(model, opt, st, ws, t, h, am, af, gamma, beta):
+    """Evaluate and factorise the iteration matrix at the current q, v; record where."""
+    scale = (1.0 - af) / (1.0 - am)
+    iteration_matrix(model, st.q, st.v, t, ws.ship, 1.0, h * gamma * scale, h * h * beta * scale, ws.ab)
+    n = model.free_dofs.shape[0]
+    info = band_lu(ws.ab, n, model.kl, model.ku, ws.ipiv)
+    st.stats[STAT_JACOBIANS] += 1
+    st.jac_q[:] = st.q
+    st.jac_v[:] = st.v
+    st.jac_ship[:, :] = ws.ship
+    st.jac[JAC_H] = h
+    st.jac[JAC_AGE] = 0.0
+    st.jac[JAC_T] = t
+    if info != 0:
+        st.stats[STAT_SINGULAR] += 1
+        st.jac[JAC_VALID] = 0.0
+        return False
+    st.jac[JAC_VALID] = 1.0
+    return True
+
+
+@njit(cache=True)
+def refactorize_from_state(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Workspace) -> None:
+    """Rebuild the factorised Jacobian recorded in a restored state (bit-identical).
+
+    The factorisation is not part of the saved state; the point where it was evaluated
+    is, so a restored run continues exactly as the original one.
+    """
+    if st.jac[JAC_VALID] == 0.0:
+        return
+    am, af, gamma, beta = scheme_coefficients(opt.rho_inf)
+    h = st.jac[JAC_H]
+    scale = (1.0 - af) / (1.0 - am)
+    ws.ship[:, :] = st.jac_ship
+    iteration_matrix(model, st.jac_q, st.jac_v, st.jac[JAC_T], ws.ship, 1.0, h * gamma * scale,
+                     h * h * beta * scale, ws.ab)
+    n = model.free_dofs.shape[0]
+    if band_lu(ws.ab, n, model.kl, model.ku, ws.ipiv) != 0:
+        st.jac[JAC_VALID] = 0.0
+
+
+@njit(cache=True)
+def initial_acceleration(model: CableModel, st: IntegratorState, ws: Workspace, t: float,
+                         drive_t0: float, drive: np.ndarray) -> bool:
+    """Set prescribed kinematics at t and solve ``M a = -F`` for consistent accelerations.
+
+    Also initialises the winch acceleration from the PD law (gains taken as zero here:
+    the caller sets ``phi`` consistently) and invalidates the Jacobian.
+
+    Returns
+    -------
+    bool
+        False if the mass matrix is singular or the forces are not finite.
+    """
+    evaluate_drive(drive_t0, drive, t, ws.ship)
+    apply_prescribed(model.att_index, model.att_kind, model.att_vec, model.att_radius, ws.ship, st.phi,
+                     st.q, st.v, st.a)
+    for i in range(model.free_dofs.shape[0]):
+        st.a[model.free_dofs[i]] = 0.0
+    residual(model, st.q, st.v, st.a, t, ws.ship, ws.r)
+    n = model.free_dofs.shape[0]
+    for i in range(n):
+        ws.dx[i] = -ws.r[model.free_dofs[i]]
+        if not math.isfinite(ws.dx[i]):
+            return False
+    iteration_matrix(model, st.q, st.v, t, ws.ship, 1.0, 0.0, 0.0, ws.ab)
+    st.jac[JAC_VALID] = 0.0
+    if band_lu(ws.ab, n, model.kl, model.ku, ws.ipiv) != 0:
+        return False
+    band_solve(ws.ab, n, model.kl, model.ku, ws.ipiv, ws.dx)
+    for i in range(n):
+        st.a[model.free_dofs[i]] = ws.dx[i]
+    st.abar[:] = st.a
+    st.phi[3] = st.phi[2]
+    st.clock[0] = t
+    return True
+
+
+@njit(cache=True)
+def _winch_step(opt, st, h, sp, sp_rate, am, af, gamma, beta):
+    """Advance the winch PD law W(136) one step with the same scheme (linear: exact)."""
+    phi, dphi, ddphi, bar = st.phi[0], st.phi[1], st.phi[2], st.phi[3]
+    scale = (1.0 - af) / (1.0 - am)
+    bar_new = (ddphi - am * bar) / (1.0 - am)
+    p = phi + h * dphi + h * h * ((0.5 - beta) * bar + beta * bar_new)
+    dp = dphi + h * ((1.0 - gamma) * bar + gamma * bar_new)
+    acc = ddphi
+    r = acc - opt.winch_kp * (sp - p) - opt.winch_kd * (sp_rate - dp)
+    delta = -r / (1.0 + opt.winch_kd * h * gamma * scale + opt.winch_kp * h * h * beta * scale)
+    st.phi[0] = p + h * h * beta * scale * delta
+    st.phi[1] = dp + h * gamma * scale * delta
+    st.phi[2] = acc + delta
+    st.phi[3] = bar_new + scale * delta
+
+
+@njit(cache=True)
+def _try_step(model, opt, st, ws, h, drive_t0, drive, am, af, gamma, beta):
+    """One step attempt of size h. Returns 0 accepted, 1 Newton failure, 2 error-test failure."""
+    t1 = st.clock[0] + h
+    sp, sp_rate = evaluate_drive(drive_t0, drive, t1, ws.ship)
+    _winch_step(opt, st, h, sp, sp_rate, am, af, gamma, beta)
+    scale = (1.0 - af) / (1.0 - am)
+    bp = h * h * beta * scale
+    gp = h * gamma * scale
+    n = model.free_dofs.shape[0]
+    for i in range(n):
+        k = model.free_dofs[i]
+        bar_new = (st.a[k] - am * st.abar[k]) / (1.0 - am)
+        st.q[k] += h * st.v[k] + h * h * ((0.5 - beta) * st.abar[k] + beta * bar_new)
+        st.v[k] += h * ((1.0 - gamma) * st.abar[k] + gamma * bar_new)
+        st.abar[k] = bar_new
+    apply_prescribed(model.att_index, model.att_kind, model.att_vec, model.att_radius, ws.ship, st.phi,
+                     st.q, st.v, st.a)
+    if (st.jac[JAC_VALID] == 0.0 or abs(h / st.jac[JAC_H] - 1.0) > 0.05
+            or st.jac[JAC_AGE] >= opt.jac_max_age):
+        if not _factorize(model, opt, st, ws, t1, h, am, af, gamma, beta):
+            return 1
+    eta = max(st.jac[JAC_ETA], 1e-4) ** 0.8
+    prev = 0.0
+    converged = False
+    for it in range(opt.max_iter):
+        residual(model, st.q, st.v, st.a, t1, ws.ship, ws.r)
+        st.stats[STAT_RESIDUALS] += 1
+        st.stats[STAT_NEWTON] += 1
+        finite = True
+        for i in range(n):
+            ws.dx[i] = -ws.r[model.free_dofs[i]]
+            if not math.isfinite(ws.dx[i]):
+                finite = False
+        if not finite:
+            break
+        band_solve(ws.ab, n, model.kl, model.ku, ws.ipiv, ws.dx)
+        dnorm = 0.0
+        for i in range(n):
+            k = model.free_dofs[i]
+            d = ws.dx[i]
+            st.a[k] += d
+            st.abar[k] += scale * d
+            st.v[k] += gp * d
+            st.q[k] += bp * d
+            dnorm = max(dnorm, abs(bp * d))
+        if not math.isfinite(dnorm):
+            break
+        if it > 0:
+            theta = dnorm / max(prev, 1e-300)
+            if theta >= 1.0:
+                break
+            eta = theta / (1.0 - theta)
+        if eta * dnorm <= opt.newton_tol or dnorm <= 1e-3 * opt.newton_tol:
+            converged = True
+            break
+        prev = dnorm
+    if not converged:
+        return 1
+    st.jac[JAC_ETA] = eta
+    st.jac[JAC_AGE] += 1.0
+    # local error estimate (Zienkiewicz-Xie), weighted max norm over free coordinates
+    c = h * h * abs(beta - 1.0 / 6.0)
+    err = 0.0
+    for i in range(n):
+        k = model.free_dofs[i]
+        e = c * abs(st.abar[k] - ws.abar0[k]) / (opt.atol + opt.rtol * abs(st.q[k]))
+        err = max(err, e)
+    st.clock[2] = err
+    if opt.adaptive and err > 1.0:
+        return 2
+    st.clock[0] = t1
+    return 0
+
+
+@njit(cache=True)
+def _restore(st, ws, phi0):
+    st.q[:] = ws.q0
+    st.v[:] = ws.v0
+    st.a[:] = ws.a0
+    st.abar[:] = ws.abar0
+    st.phi[:] = phi0
+
+
+@njit(cache=True)
+def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Workspace, t_end: float,
+            drive_t0: float, drive: np.ndarray) -> int:
+    """Integrate from the state's time to ``t_end`` (landing on it exactly).
+
+    Parameters
+    ----------
+    model, opt
+        The system and the solver options.
+    st, ws
+        Integrator state (modified) and workspace.
+    t_end
+        Target time [s].
+    drive_t0, drive
+        Drive polynomials (see :func:`evaluate_drive`) valid over the interval.
+
+    Returns
+    -------
+    int
+        ``OK``; or ``FAILED_MIN_STEP`` when a step failed at the minimum step size
+        (the state is then the last accepted step, at a time before ``t_end``).
+    """
+    am, af, gamma, beta = scheme_coefficients(opt.rho_inf)
+    phi0 = np.empty(4)
+    streak = 0
+    while True:
+        t = st.clock[0]
+        remaining = t_end - t
+        if remaining <= 1e-12 * max(1.0, abs(t_end)):
+            st.clock[0] = t_end
+            return OK
+        h = min(st.clock[1], opt.h_max)
+        nrem = math.ceil(remaining / h - 1e-9)
+        h_try = remaining / nrem
+        ws.q0[:] = st.q
+        ws.v0[:] = st.v
+        ws.a0[:] = st.a
+        ws.abar0[:] = st.abar
+        phi0[:] = st.phi
+        status = _try_step(model, opt, st, ws, h_try, drive_t0, drive, am, af, gamma, beta)
+        if status == 1 and st.jac[JAC_AGE] > 0.0:
+            # stale Jacobian: retry the same step with a fresh one
+            _restore(st, ws, phi0)
+            st.jac[JAC_VALID] = 0.0
+            st.jac[JAC_ETA] = 1.0
+            status = _try_step(model, opt, st, ws, h_try, drive_t0, drive, am, af, gamma, beta)
+        if status == 0:
+            st.stats[STAT_STEPS] += 1
+            streak += 1
+            if opt.adaptive:
+                err = st.clock[2]
+                factor = 0.9 * max(err, 1e-10) ** (-1.0 / 3.0)
+                st.clock[1] = min(opt.h_max, h_try * min(2.0, max(0.5, factor)))
+                if nrem > 1 and st.clock[1] > h_try and st.clock[1] < 1.2 * h_try:
+                    st.clock[1] = h_try  # avoid re-factorising for a marginal gain
+            elif streak >= 8 and st.clock[1] < opt.h_max:
+                st.clock[1] = min(opt.h_max, 2.0 * st.clock[1])
+                streak = 0
+            continue
+        _restore(st, ws, phi0)
+        st.stats[STAT_REJECTED] += 1
+        streak = 0
+        if status == 2:
+            factor = 0.9 * st.clock[2] ** (-1.0 / 3.0)
+            h_new = h_try * min(0.9, max(0.2, factor))
+        else:
+            h_new = 0.5 * h_try
+            st.jac[JAC_ETA] = 1.0
+        if h_new < opt.h_min:
+            return FAILED_MIN_STEP
+        st.clock[1] = h_new

@@ -1,0 +1,140 @@
+"""Finding, reading and overriding scene files.
+
+A scene is named either by a built-in name (a file ``<name>.toml`` shipped in
+``towcable_fmu/scenes``) or by a path to the user's own TOML file. Overrides are
+``dotted.key=value`` strings (values in TOML syntax; bare words are strings), applied
+before validation so that they are validated like the file itself.
+"""
+
+from __future__ import annotations
+
+import copy
+import difflib
+import re
+import tomllib
+from importlib import resources
+from pathlib import Path
+from typing import Any, Iterable, Mapping
+
+from ..errors import SceneError
+from .model import Scene
+from .schema import parse
+
+_INDEX = re.compile(r"^(?P<name>[^\[\]]+)\[(?P<index>\d+)\]$")
+
+
+def builtin_scene_names() -> list[str]:
+    """Names of the scenes shipped with the package, sorted."""
+    folder = resources.files("towcable_fmu") / "scenes"
+    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+
+
+def _read_text(name_or_path: str | Path) -> tuple[str, Path | None]:
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or path.exists():
+        if not path.is_file():
+            raise SceneError("scene", str(name_or_path), "an existing TOML file or a built-in scene name ("
+                             + ", ".join(builtin_scene_names()) + ")")
+        return path.read_text(encoding="utf-8"), path.parent.resolve()
+    names = builtin_scene_names()
+    if str(name_or_path) not in names:
+        close = difflib.get_close_matches(str(name_or_path), names, n=1)
+        hint = f" (did you mean '{close[0]}'?)" if close else ""
+        raise SceneError("scene", str(name_or_path), "a built-in scene name (" + ", ".join(names) + ")"
+                         + hint + " or a path to a .toml file")
+    res = resources.files("towcable_fmu") / "scenes" / f"{name_or_path}.toml"
+    return res.read_text(encoding="utf-8"), None
+
+
+def parse_override(text: str) -> tuple[str, Any]:
+    """Split ``key=value`` and parse the value as TOML (falling back to a string).
+
+    Examples: ``solver.time_step=0.005``, ``cable.segments[0].elements=20``,
+    ``cable.top.position=[0, 0, 1]``, ``cable.top.type=clamped``.
+    """
+    if "=" not in text:
+        raise SceneError("--set", text, "key=value with a dotted key, e.g. solver.time_step=0.005")
+    key, raw = (s.strip() for s in text.split("=", 1))
+    if not key:
+        raise SceneError("--set", text, "a non-empty key before '='")
+    try:
+        value = tomllib.loads(f"v = {raw}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = raw
+    return key, value
+
+
+def apply_overrides(table: dict, overrides: Mapping[str, Any] | Iterable[tuple[str, Any]]) -> dict:
+    """Return a deep copy of ``table`` with dotted-path overrides applied.
+
+    Parameters
+    ----------
+    table
+        Parsed TOML document.
+    overrides
+        Mapping or pairs of dotted key -> value. A list index is written ``name[i]``.
+    """
+    out = copy.deepcopy(table)
+    items = overrides.items() if isinstance(overrides, Mapping) else overrides
+    for key, value in items:
+        node: Any = out
+        parts = key.split(".")
+        for depth, part in enumerate(parts):
+            last = depth == len(parts) - 1
+            m = _INDEX.match(part)
+            name, index = (m["name"], int(m["index"])) if m else (part, None)
+            where = ".".join(parts[: depth + 1])
+            if not isinstance(node, dict):
+                raise SceneError(key, value, f"a key inside a table ('{'.'.join(parts[:depth])}' is not a table)")
+            if index is None:
+                if last:
+                    node[name] = value
+                else:
+                    node = node.setdefault(name, {})
+            else:
+                seq = node.get(name)
+                if not isinstance(seq, list) or index >= len(seq):
+                    size = len(seq) if isinstance(seq, list) else 0
+                    raise SceneError(where, value, f"an index below {size} (the scene has {size} entries)")
+                if last:
+                    seq[index] = value
+                else:
+                    node = seq[index]
+    return out
+
+
+def load_scene(name_or_path: str | Path, overrides: Mapping[str, Any] | Iterable[tuple[str, Any]] = ()) -> Scene:
+    """Load, override and validate a scene.
+
+    Parameters
+    ----------
+    name_or_path
+        Built-in scene name (see :func:`builtin_scene_names`) or path to a TOML file.
+    overrides
+        Dotted-key overrides applied before validation.
+
+    Returns
+    -------
+    Scene
+        The validated scene; relative file paths in it are resolved against
+        ``Scene.base_dir``, which defaults to the scene file's folder.
+
+    Raises
+    ------
+    SceneError
+        Unknown scene, invalid TOML, unknown keys or out-of-range values.
+    """
+    text, base = _read_text(name_or_path)
+    try:
+        table = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError("scene", str(name_or_path), f"valid TOML ({exc})") from None
+    table = apply_overrides(table, overrides)
+    if base is not None:
+        table.setdefault("base_dir", str(base))
+    return scene_from_table(table)
+
+
+def scene_from_table(table: dict) -> Scene:
+    """Validate a parsed TOML document into a :class:`Scene`."""
+    return parse(Scene, table, "")

@@ -1,0 +1,175 @@
+"""The scene: typed, validated description of one towed-cable system.
+
+Each class is one TOML table of a scene file; every field declares its unit, default
+and allowed range (see :mod:`towcable_fmu.scene.schema`). Cross-field rules live in
+``validate`` methods and raise :class:`~towcable_fmu.errors.SceneError` as well.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from ..errors import SceneError
+from .schema import spec
+
+
+@dataclasses.dataclass(frozen=True)
+class Environment:
+    """Gravity and the inertial frame."""
+
+    gravity: float = spec(9.81, unit="m/s^2", ge=0.0, doc="gravitational acceleration (acts along -z)")
+
+
+@dataclasses.dataclass(frozen=True)
+class Segment:
+    """A run of cable with uniform properties, meshed with equal ANCF elements."""
+
+    length: float = spec(unit="m", gt=0.0, doc="unstretched length of the segment")
+    elements: int = spec(unit="-", ge=1, le=5000, doc="number of equal ANCF elements")
+    diameter: float = spec(unit="m", gt=0.0, doc="hydrodynamic (outer) diameter d")
+    mass_per_length: float = spec(unit="kg/m", gt=0.0, doc="mass per unit unstretched length")
+    EA: float = spec(unit="N", gt=0.0, doc="axial stiffness (Young's modulus times area)")
+    EI: float = spec(unit="N m^2", ge=0.0, doc="bending stiffness")
+    damping: float = spec(0.0, unit="N s", ge=0.0,
+                          doc="internal damping coefficient c of the Rayleigh dissipation W(54)-(55)")
+    integration_points: int = spec(10, unit="-", ge=2, le=100,
+                                   doc="N_I: equally spaced trapezoidal points per element for distributed loads")
+    compression: bool = spec(True, doc="true: the axial stiffness also acts in compression (the reference's "
+                                       "model); false: tension-only material, a slack cable carries no load")
+    name: str = spec("", doc="label used in plots and messages")
+
+
+@dataclasses.dataclass(frozen=True)
+class End:
+    """Boundary condition at one end of the cable."""
+
+    type: str = spec("free", choices=("pinned", "clamped", "free"),
+                     doc="pinned: position prescribed, slope free; clamped: position and slope "
+                         "prescribed; free: no constraint (a towed body may hang there)")
+    frame: str = spec("inertial", choices=("inertial", "ship"),
+                      doc="frame of 'position': fixed in the inertial frame or moving with the ship")
+    position: tuple[float, ...] | None = spec(None, unit="m", length=3,
+                                              doc="attachment point (inertial or ship body coordinates)")
+    slope: tuple[float, ...] | None = spec(None, unit="-", length=3,
+                                           doc="clamped ends: cable direction leaving the end, pointing into "
+                                               "the cable (normalised)")
+
+    def validate(self, key: str) -> None:
+        """Cross-field checks."""
+        if self.type in ("pinned", "clamped") and self.position is None:
+            raise SceneError(f"{key}.position", None, f"a list of 3 numbers [m] (required for type = '{self.type}')")
+        if self.type == "clamped":
+            if self.slope is None:
+                raise SceneError(f"{key}.slope", None, "a list of 3 numbers (required for type = 'clamped')")
+            if math.hypot(*self.slope) == 0.0:
+                raise SceneError(f"{key}.slope", list(self.slope), "a non-zero direction")
+        if self.type == "free" and self.position is not None:
+            raise SceneError(f"{key}.position", list(self.position), "no position for a free end")
+
+
+@dataclasses.dataclass(frozen=True)
+class InitialShape:
+    """Rough initial shape handed to the statics solver."""
+
+    shape: str = spec("auto", choices=("auto", "straight", "sag"),
+                      doc="auto: 'sag' between two prescribed ends, else 'straight'; straight: along "
+                          "'direction' from the top end; sag: a parabola between the two ends")
+    direction: tuple[float, ...] = spec([0.0, 0.0, -1.0], unit="-", length=3,
+                                        doc="direction of a straight initial cable from its top end")
+    sag_direction: tuple[float, ...] = spec([0.0, 0.0, -1.0], unit="-", length=3,
+                                            doc="direction in which a 'sag' shape bulges")
+
+
+@dataclasses.dataclass(frozen=True)
+class Cable:
+    """The cable: its segments from the top end to the bottom end, and end conditions."""
+
+    segments: tuple[Segment, ...] = spec(doc="segments from the top (first node) to the bottom (last node)")
+    top: End = spec(End(type="pinned", position=(0.0, 0.0, 0.0)), doc="end at the first node")
+    bottom: End = spec(End(), doc="end at the last node")
+    initial: InitialShape = spec(InitialShape(), doc="rough initial shape for the statics solver")
+
+    def validate(self, key: str) -> None:
+        """Cross-field checks."""
+        if self.top.type == "free" and self.bottom.type == "free":
+            raise SceneError(f"{key}.top.type", "free", "'pinned' or 'clamped' when the bottom end is free too")
+        if self.top.type == "free":
+            raise SceneError(f"{key}.top.type", "free", "'pinned' or 'clamped' (the top end carries the cable)")
+        if self.initial.shape == "sag" and self.bottom.type == "free":
+            raise SceneError(f"{key}.initial.shape", "sag", "'straight' or 'auto' when the bottom end is free")
+
+    @property
+    def n_elements(self) -> int:
+        """Total number of elements."""
+        return sum(s.elements for s in self.segments)
+
+    @property
+    def length(self) -> float:
+        """Total unstretched length [m]."""
+        return sum(s.length for s in self.segments)
+
+
+@dataclasses.dataclass(frozen=True)
+class TowBody:
+    """A lumped towed body at the bottom end of the cable, W(85)-(92)."""
+
+    mass: float = spec(unit="kg", gt=0.0, doc="mass m_b")
+    name: str = spec("towbody", doc="label")
+
+
+@dataclasses.dataclass(frozen=True)
+class SolverSettings:
+    """Time integration: generalised-alpha with Newton on a banded Jacobian."""
+
+    time_step: float = spec(0.01, unit="s", gt=0.0, le=10.0, doc="nominal (maximum) time step h")
+    rho_inf: float = spec(0.8, unit="-", ge=0.0, le=1.0,
+                          doc="spectral radius at infinite frequency (1: no numerical damping)")
+    adaptive: bool = spec(False, doc="adapt the step to keep the local error estimate below rtol/atol")
+    rtol: float = spec(1e-3, unit="-", gt=0.0, lt=1.0, doc="relative local error tolerance (adaptive mode)")
+    atol: float = spec(1e-4, unit="m", gt=0.0, doc="absolute local error tolerance (adaptive mode)")
+    newton_tol: float = spec(1e-8, unit="m", gt=0.0, le=1e-2,
+                             doc="Newton stops when the estimated remaining coordinate error is below this")
+    max_newton_iterations: int = spec(8, unit="-", ge=1, le=100, doc="iterations before the Jacobian is refreshed")
+    jacobian_max_age: int = spec(100, unit="-", ge=1, doc="steps a factorised Jacobian may be reused")
+    min_time_step: float = spec(1e-7, unit="s", gt=0.0, doc="a step that fails below this size is an error")
+
+
+@dataclasses.dataclass(frozen=True)
+class StaticsSettings:
+    """Equilibrium solver (pseudo-transient continuation with Newton)."""
+
+    enabled: bool = spec(True, doc="solve the statics before a run to start from equilibrium")
+    tolerance: float = spec(1e-8, unit="-", gt=0.0, lt=1.0,
+                            doc="converged when the largest out-of-balance force is below tolerance times the "
+                                "load scale (total weight, drag and tension)")
+    max_iterations: int = spec(400, unit="-", ge=1, doc="iteration limit")
+
+
+@dataclasses.dataclass(frozen=True)
+class OutputSettings:
+    """What a run records."""
+
+    interval: float = spec(0.05, unit="s", gt=0.0, doc="time between recorded output samples")
+
+
+@dataclasses.dataclass(frozen=True)
+class Scene:
+    """A complete scene: everything a simulation needs."""
+
+    cable: Cable = spec(doc="the cable")
+    title: str = spec("", doc="one-line title")
+    description: str = spec("", doc="what the scene is and where its numbers come from")
+    environment: Environment = spec(Environment(), doc="gravity")
+    towbody: TowBody | None = spec(None, doc="lumped towed body at the bottom end (bottom must be free)")
+    motion: dict | None = spec(None, doc="ship motion (see ship_motion/README.md); none: the ship is still")
+    solver: SolverSettings = spec(SolverSettings(), doc="time integration")
+    statics: StaticsSettings = spec(StaticsSettings(), doc="equilibrium solver")
+    output: OutputSettings = spec(OutputSettings(), doc="recording")
+    base_dir: str = spec("", doc="folder against which relative file paths are resolved "
+                                 "(default: the scene file's folder, or the working directory)")
+
+    def validate(self, key: str) -> None:
+        """Cross-section checks."""
+        if self.towbody is not None and self.cable.bottom.type != "free":
+            raise SceneError("cable.bottom.type", self.cable.bottom.type, "'free' when a [towbody] is attached")

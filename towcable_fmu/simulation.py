@@ -1,0 +1,394 @@
+"""The simulation object: a scene, its compiled model, the integrator state, and outputs.
+
+This is the physics without FMI: load a scene, initialise (statics), step, read
+outputs, get and set the complete state. The FMU slave, the command line, the tests
+and the benchmarks all drive this same object.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from pathlib import Path
+from typing import Any, Callable, Iterable, Mapping
+
+import numpy as np
+
+from . import drive as drive_poly
+from .ancf import initial_shape, measures
+from .ancf.mesh import Mesh, build_mesh, build_model
+from .ancf.system import CableModel, residual
+from .errors import SceneError, SolverError
+from .numerics import genalpha
+from .numerics.statics import StaticsResult, solve_statics
+from .scene import load_scene
+from .scene.model import Scene
+
+#: Normalised element positions at which the tension profile is sampled.
+_PROFILE_XI = np.array([0.0, 0.5, 1.0])
+
+
+def _motion_source(scene: Scene):
+    from ship_motion import StillShip, motion_from_config
+
+    if scene.motion is None:
+        return StillShip()
+    base = Path(scene.base_dir) if scene.base_dir else None
+    return motion_from_config(scene.motion, key="motion", base_dir=base)
+
+
+def solver_options(scene: Scene) -> genalpha.SolverOptions:
+    """Integrator options from a scene's [solver] table (and winch gains when present)."""
+    s = scene.solver
+    return genalpha.SolverOptions(h_max=s.time_step, rho_inf=s.rho_inf, adaptive=s.adaptive, rtol=s.rtol,
+                                  atol=s.atol, newton_tol=s.newton_tol, max_iter=s.max_newton_iterations,
+                                  jac_max_age=s.jacobian_max_age, h_min=s.min_time_step,
+                                  winch_kp=0.0, winch_kd=0.0)
+
+
+class Simulation:
+    """One towed-cable system in time.
+
+    Parameters
+    ----------
+    scene
+        A validated scene (see :func:`towcable_fmu.scene.load_scene`).
+
+    Examples
+    --------
+    >>> sim = Simulation.from_scene("hanging_cable", {"solver.time_step": 0.01})  # doctest: +SKIP
+    >>> sim.initialize()                                                         # doctest: +SKIP
+    >>> out = sim.advance(1.0)                                                   # doctest: +SKIP
+    >>> out["tension.top"]                                                       # doctest: +SKIP
+    """
+
+    def __init__(self, scene: Scene) -> None:
+        self.scene = scene
+        self.mesh: Mesh = build_mesh(scene)
+        self.model: CableModel = build_model(scene, self.mesh)
+        self.options = solver_options(scene)
+        self.motion = _motion_source(scene)
+        self.state = genalpha.new_state(6 * self.mesh.n_nodes)
+        self.workspace = genalpha.new_workspace(self.model)
+        self.statics: StaticsResult | None = None
+        self._setpoint = (0.0, 0.0)
+        self._initialized = False
+
+    @classmethod
+    def from_scene(cls, name_or_path: str | Path,
+                   overrides: Mapping[str, Any] | Iterable[tuple[str, Any]] = ()) -> "Simulation":
+        """Load a built-in scene by name, or a scene file, with dotted-key overrides."""
+        return cls(load_scene(name_or_path, overrides))
+
+    # ------------------------------------------------------------------ time
+    @property
+    def time(self) -> float:
+        """Current simulation time [s]."""
+        return float(self.state.clock[0])
+
+    def initialize(self, t0: float = 0.0, ship: np.ndarray | None = None,
+                   setpoint: tuple[float, float] | None = None, statics: bool | None = None) -> dict[str, float]:
+        """Lay out the initial shape, solve the statics and set consistent accelerations.
+
+        Parameters
+        ----------
+        t0
+            Start time [s].
+        ship
+            Ship state (3, 6) at t0; default: the scene's motion source at t0.
+        setpoint
+            Winch set-point (phi_sp [rad], phi_sp_rate [rad/s]).
+        statics
+            Solve the statics first (default: the scene's ``statics.enabled``).
+
+        Returns
+        -------
+        dict
+            Outputs at t0 (see :meth:`outputs`).
+
+        Raises
+        ------
+        SolverError
+            If the statics do not converge or the initial state has no finite acceleration.
+        """
+        if not math.isfinite(t0):
+            raise SceneError("t0", t0, "a finite start time [s]")
+        ship0 = self.motion.evaluate(t0) if ship is None else np.asarray(ship, dtype=float)
+        self._check_ship(ship0)
+        if setpoint is not None:
+            self._setpoint = (float(setpoint[0]), float(setpoint[1]))
+        st = self.state
+        st.q[:] = self._initial_coordinates(ship0)
+        st.v[:] = 0.0
+        st.a[:] = 0.0
+        st.stats[:] = 0
+        st.jac[:] = 0.0
+        st.jac[genalpha.JAC_ETA] = 1.0
+        st.clock[:] = (t0, self.options.h_max, 0.0)
+        run_statics = self.scene.statics.enabled if statics is None else statics
+        if run_statics:
+            cfg = self.scene.statics
+            self.statics = solve_statics(self.model, st.q, ship0, st.phi, t0, tolerance=cfg.tolerance,
+                                         max_iterations=cfg.max_iterations)
+            st.q[:] = self.statics.q
+        coef = drive_poly.taylor_drive(ship0, self._setpoint)
+        if not genalpha.initial_acceleration(self.model, st, self.workspace, t0, t0, coef):
+            raise SolverError("the initial state has no finite acceleration (singular mass matrix or "
+                              "non-finite forces)")
+        self._initialized = True
+        return self.outputs()
+
+    def _initial_coordinates(self, ship0: np.ndarray) -> np.ndarray:
+        cable = self.scene.cable
+        q = np.zeros(6 * self.mesh.n_nodes)
+        v = np.zeros_like(q)
+        a = np.zeros_like(q)
+        from .ancf.prescribed import apply_prescribed
+
+        m = self.model
+        apply_prescribed(m.att_index, m.att_kind, m.att_vec, m.att_radius, ship0, self.state.phi, q, v, a)
+        top = q[0:3].copy()
+        shape = cable.initial.shape
+        if shape == "auto":
+            shape = "sag" if cable.bottom.type != "free" else "straight"
+        if shape == "straight":
+            return initial_shape.straight(top, np.array(cable.initial.direction), self.mesh.node_arc)
+        bottom = q[6 * (self.mesh.n_nodes - 1): 6 * (self.mesh.n_nodes - 1) + 3].copy()
+        return initial_shape.sag(top, bottom, np.array(cable.initial.sag_direction), self.mesh.node_arc)
+
+    @staticmethod
+    def _check_ship(ship: np.ndarray) -> None:
+        if ship.shape != (3, 6):
+            raise SceneError("ship", f"array of shape {ship.shape}", "an array of shape (3, 6)")
+        if not np.all(np.isfinite(ship)):
+            bad = np.argwhere(~np.isfinite(ship))[0]
+            raise SceneError(f"ship[{bad[0]}, {bad[1]}]", float(ship[bad[0], bad[1]]), "a finite number")
+
+    def _require_initialized(self) -> None:
+        if not self._initialized:
+            raise SolverError("call initialize() before stepping the simulation")
+
+    def _advance_with(self, t_end: float, coef: np.ndarray, t0: float) -> dict[str, float]:
+        saved = self._snapshot()
+        status = genalpha.advance(self.model, self.options, self.state, self.workspace, t_end, t0, coef)
+        if status != genalpha.OK:
+            reached = self.time
+            self._restore(saved)
+            raise SolverError(f"the solver could not advance from t = {saved[0].clock[0]:.6g} s to "
+                              f"t = {t_end:.6g} s: Newton failed at the minimum step size "
+                              f"{self.options.h_min:g} s near t = {reached:.6g} s")
+        out = self.outputs()
+        if not all(math.isfinite(v) for v in out.values()):
+            self._restore(saved)
+            raise SolverError(f"non-finite outputs at t = {t_end:.6g} s")
+        return out
+
+    def advance(self, t_end: float) -> dict[str, float]:
+        """Advance to ``t_end`` with the scene's own ship motion; return the outputs there.
+
+        Raises
+        ------
+        SolverError
+            If a step fails; the state is then left as it was before the call.
+        """
+        self._require_initialized()
+        t0 = self.time
+        if not (math.isfinite(t_end) and t_end > t0):
+            raise SceneError("t_end", t_end, f"a finite time > {t0:g} s")
+        coef = drive_poly.quintic_drive(t_end - t0, self.motion.evaluate(t0), self.motion.evaluate(t_end),
+                                        self._setpoint, self._setpoint)
+        return self._advance_with(t_end, coef, t0)
+
+    def step(self, dt: float, ship: np.ndarray, setpoint: tuple[float, float] | None = None) -> dict[str, float]:
+        """Advance by ``dt`` with the ship state given at the start of the step (FMU style).
+
+        Parameters
+        ----------
+        dt
+            Step [s] (> 0).
+        ship
+            Ship state (3, 6) at the current time, extrapolated with constant
+            acceleration over the step.
+        setpoint
+            Winch set-point (phi_sp [rad], phi_sp_rate [rad/s]); default: unchanged.
+
+        Raises
+        ------
+        SceneError
+            Bad inputs (non-finite, wrong shape, non-positive dt); nothing is changed.
+        SolverError
+            If a step fails; the state is then left as it was before the call.
+        """
+        self._require_initialized()
+        if not (math.isfinite(dt) and dt > 0.0):
+            raise SceneError("dt", dt, "a finite step > 0 s")
+        ship = np.asarray(ship, dtype=float)
+        self._check_ship(ship)
+        if setpoint is not None:
+            if not all(math.isfinite(float(x)) for x in setpoint):
+                raise SceneError("setpoint", tuple(setpoint), "finite phi_sp [rad] and phi_sp_rate [rad/s]")
+            self._setpoint = (float(setpoint[0]), float(setpoint[1]))
+        t0 = self.time
+        return self._advance_with(t0 + dt, drive_poly.taylor_drive(ship, self._setpoint), t0)
+
+    # --------------------------------------------------------------- outputs
+    def reactions(self) -> np.ndarray:
+        """Generalised forces the prescribed coordinates exert on the cable (full vector; zero on free rows) [N]."""
+        st = self.state
+        r = np.zeros_like(st.q)
+        residual(self.model, st.q, st.v, st.a, self.time, self.workspace.ship, r)
+        r[self.model.free_dofs] = 0.0
+        return r
+
+    def node_positions(self) -> np.ndarray:
+        """Node positions [m], shape (nn, 3)."""
+        return self.state.q.reshape(-1, 2, 3)[:, 0, :].copy()
+
+    def node_velocities(self) -> np.ndarray:
+        """Node velocities [m/s], shape (nn, 3)."""
+        return self.state.v.reshape(-1, 2, 3)[:, 0, :].copy()
+
+    def tension_profile(self) -> tuple[np.ndarray, np.ndarray]:
+        """Tension along the cable at element ends and mid-points.
+
+        Returns
+        -------
+        arc, tension
+            Unstretched arc length from the top [m] and tension [N], shape (3 ne,).
+        """
+        t = measures.tension_profile(self.model, self.state.q, _PROFILE_XI)
+        arc = self.mesh.node_arc[:-1, None] + self.mesh.lengths[:, None] * _PROFILE_XI[None, :]
+        return arc.ravel(), t.ravel()
+
+    def _end_tension(self, node: int, reactions: np.ndarray, profile_end: float) -> float:
+        i0 = 6 * node
+        if self.model.free_idx[i0] < 0:
+            return float(np.linalg.norm(reactions[i0:i0 + 3]))
+        return max(profile_end, 0.0)
+
+    def outputs(self) -> dict[str, float]:
+        """Named outputs at the current time (names as in DESIGN.md), SI units.
+
+        ``tension.top`` and ``tension.bottom`` are the support reactions at a
+        prescribed end (the consistent nodal force, which converges faster than the
+        strain), else the axial force from the strain; ``tension.towbody`` is the force
+        the cable exerts on the body (its mass times acceleration minus its other forces).
+        """
+        st = self.state
+        m = self.model
+        nn = self.mesh.n_nodes
+        reactions = self.reactions()
+        _, prof = self.tension_profile()
+        out: dict[str, float] = {"time": self.time}
+        out["tension.top"] = self._end_tension(0, reactions, prof[0])
+        out["tension.bottom"] = self._end_tension(nn - 1, reactions, prof[-1])
+        out["tension.max"] = float(max(prof.max(), out["tension.top"], out["tension.bottom"]))
+        out["tension.min"] = float(prof.min())
+        out["angle.top"] = measures.angle_from_vertical(st.q[3:6])
+        last = 6 * (nn - 1)
+        if self.scene.towbody is not None:
+            # force of the cable on the body: m a minus the body's own external forces
+            body_external = np.array([0.0, 0.0, -self.scene.towbody.mass * self.scene.environment.gravity])
+            force = m.node_mass[-1] * st.a[last:last + 3] - body_external
+            out["tension.towbody"] = float(np.linalg.norm(force))
+            for k, c in enumerate("xyz"):
+                out[f"towbody.{c}"] = float(st.q[last + k])
+                out[f"towbody.v{c}"] = float(st.v[last + k])
+        out["energy.kinetic"] = measures.kinetic_energy(m, st.v)
+        out["energy.strain"] = self._strain_energy()
+        out["energy.gravity"] = measures.gravity_energy(m, st.q)
+        out["winch.phi"] = float(st.phi[0])
+        return out
+
+    def _strain_energy(self) -> float:
+        r = np.zeros_like(self.state.q)
+        zero = np.zeros_like(self.state.q)
+        axial = residual(self.model, self.state.q, zero, zero, self.time, self.workspace.ship, r)
+        return float(axial + measures.bending_energy(self.model, self.state.q))
+
+    def statistics(self) -> dict[str, float]:
+        """Solver counters since initialisation, plus the statics result."""
+        out = {f"solver.{name}": int(v) for name, v in zip(genalpha.STAT_NAMES, self.state.stats)}
+        out["solver.last_error_estimate"] = float(self.state.clock[2])
+        out["solver.time_step"] = float(self.state.clock[1])
+        if self.statics is not None:
+            out["solver.statics_iterations"] = self.statics.iterations
+            out["solver.statics_residual"] = self.statics.residual_norm
+            out["solver.statics_wall_time"] = self.statics.wall_time
+        return out
+
+    # ----------------------------------------------------------------- state
+    def _snapshot(self) -> tuple[genalpha.IntegratorState, tuple[float, float]]:
+        return genalpha.IntegratorState(*(np.copy(x) for x in self.state)), self._setpoint
+
+    def _restore(self, saved: tuple[genalpha.IntegratorState, tuple[float, float]]) -> None:
+        state, self._setpoint = saved
+        for dst, src in zip(self.state, state):
+            dst[...] = src
+        genalpha.refactorize_from_state(self.model, self.options, self.state, self.workspace)
+
+    def get_state(self) -> dict[str, Any]:
+        """The complete solver state as JSON-able data (lists and floats)."""
+        return {"fields": {name: np.asarray(getattr(self.state, name)).tolist()
+                           for name in genalpha.IntegratorState._fields},
+                "setpoint": list(self._setpoint), "initialized": self._initialized,
+                "n_coordinates": int(self.state.q.size)}
+
+    def set_state(self, data: Mapping[str, Any]) -> None:
+        """Restore a state from :meth:`get_state`; the run then continues bit-identically.
+
+        Raises
+        ------
+        SceneError
+            If the data does not belong to this model.
+        """
+        if int(data.get("n_coordinates", -1)) != self.state.q.size:
+            raise SceneError("state.n_coordinates", data.get("n_coordinates"),
+                             f"{self.state.q.size} (the state belongs to a different mesh)")
+        fields = data["fields"]
+        arrays = genalpha.IntegratorState(*(np.asarray(fields[name], dtype=getattr(self.state, name).dtype)
+                                            for name in genalpha.IntegratorState._fields))
+        self._restore((arrays, (float(data["setpoint"][0]), float(data["setpoint"][1]))))
+        self._initialized = bool(data["initialized"])
+
+    def copy(self) -> "Simulation":
+        """An independent copy (same scene and state)."""
+        other = copy.copy(self)
+        other.state = genalpha.IntegratorState(*(np.copy(x) for x in self.state))
+        other.workspace = genalpha.Workspace(*(np.copy(x) for x in self.workspace))
+        return other
+
+    # ------------------------------------------------------------------- run
+    def run(self, duration: float, interval: float | None = None,
+            progress: Callable[[float, float], None] | None = None) -> dict[str, np.ndarray]:
+        """Initialise if needed and record outputs every ``interval`` for ``duration``.
+
+        Parameters
+        ----------
+        duration
+            Simulated time [s] (> 0).
+        interval
+            Output interval [s]; default: the scene's ``output.interval``.
+        progress
+            Called as ``progress(t, t_end)`` after every recorded sample.
+
+        Returns
+        -------
+        dict
+            Output name -> array over the recorded samples (including the start).
+        """
+        if not (math.isfinite(duration) and duration > 0.0):
+            raise SceneError("duration", duration, "a finite time > 0 s")
+        dt = self.scene.output.interval if interval is None else interval
+        if not (math.isfinite(dt) and dt > 0.0):
+            raise SceneError("output.interval", dt, "a finite interval > 0 s")
+        if not self._initialized:
+            self.initialize()
+        t0 = self.time
+        n = max(1, int(math.ceil(duration / dt - 1e-9)))
+        rows = [self.outputs()]
+        for k in range(1, n + 1):
+            rows.append(self.advance(t0 + min(k * dt, duration)))
+            if progress is not None:
+                progress(self.time, t0 + duration)
+        return {name: np.array([r[name] for r in rows]) for name in rows[0]}
