@@ -15,7 +15,7 @@ from typing import Any, Callable, Iterable, Mapping
 import numpy as np
 
 from . import drive as drive_poly
-from .ancf import initial_shape, measures
+from .ancf import element, initial_shape, measures
 from .ancf.mesh import Mesh, build_mesh, build_model
 from .ancf.system import CableModel, residual
 from .errors import SceneError, SolverError
@@ -131,11 +131,45 @@ class Simulation:
             self.statics = solve_statics(self.model, st.q, ship0, st.phi, t0, tolerance=cfg.tolerance,
                                          max_iterations=cfg.max_iterations)
             st.q[:] = self.statics.q
-        coef = drive_poly.taylor_drive(ship0, self._setpoint)
-        if not genalpha.initial_acceleration(self.model, st, self.workspace, t0, t0, coef):
+        if not genalpha.initial_acceleration(self.model, st, self.workspace, t0,
+                                             *drive_poly.taylor_drive(t0, ship0, self._setpoint)):
             raise SolverError("the initial state has no finite acceleration (singular mass matrix or "
                               "non-finite forces)")
         self._initialized = True
+        return self.outputs()
+
+    def set_coordinates(self, q: np.ndarray, v: np.ndarray | None = None) -> dict[str, float]:
+        """Replace the cable configuration at the current time (e.g. to release it from a
+        displaced shape) and recompute consistent accelerations.
+
+        Parameters
+        ----------
+        q
+            Full coordinate vector (nodal positions [m] and slopes [-]); the prescribed
+            entries are overwritten by the end kinematics.
+        v
+            Full velocity vector [m/s, 1/s]; default zero.
+
+        Returns
+        -------
+        dict
+            Outputs in the new state.
+        """
+        self._require_initialized()
+        q = np.asarray(q, dtype=float)
+        v = np.zeros_like(q) if v is None else np.asarray(v, dtype=float)
+        if q.shape != self.state.q.shape or v.shape != self.state.q.shape:
+            raise SceneError("q", f"array of shape {q.shape}", f"an array of shape {self.state.q.shape}")
+        if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
+            raise SceneError("q", "non-finite values", "finite coordinates and velocities")
+        st = self.state
+        st.q[:] = q
+        st.v[:] = v
+        t = self.time
+        ship = self.motion.evaluate(t)
+        if not genalpha.initial_acceleration(self.model, st, self.workspace, t,
+                                             *drive_poly.taylor_drive(t, ship, self._setpoint)):
+            raise SolverError("the given configuration has no finite acceleration")
         return self.outputs()
 
     def _initial_coordinates(self, ship0: np.ndarray) -> np.ndarray:
@@ -148,13 +182,15 @@ class Simulation:
         m = self.model
         apply_prescribed(m.att_index, m.att_kind, m.att_vec, m.att_radius, ship0, self.state.phi, q, v, a)
         top = q[0:3].copy()
+        arc = self.mesh.node_arc
         shape = cable.initial.shape
-        if shape == "auto":
-            shape = "sag" if cable.bottom.type != "free" else "straight"
-        if shape == "straight":
-            return initial_shape.straight(top, np.array(cable.initial.direction), self.mesh.node_arc)
+        if cable.bottom.type == "free":
+            return initial_shape.straight(top, np.array(cable.initial.direction), arc)
         bottom = q[6 * (self.mesh.n_nodes - 1): 6 * (self.mesh.n_nodes - 1) + 3].copy()
-        return initial_shape.sag(top, bottom, np.array(cable.initial.sag_direction), self.mesh.node_arc)
+        if shape == "straight":  # along the chord, compressed or stretched to fit
+            chord = bottom - top
+            return initial_shape.straight(top, chord, arc, float(np.linalg.norm(chord)) / arc[-1])
+        return initial_shape.sag(top, bottom, np.array(cable.initial.sag_direction), arc)
 
     @staticmethod
     def _check_ship(ship: np.ndarray) -> None:
@@ -168,9 +204,9 @@ class Simulation:
         if not self._initialized:
             raise SolverError("call initialize() before stepping the simulation")
 
-    def _advance_with(self, t_end: float, coef: np.ndarray, t0: float) -> dict[str, float]:
+    def _advance_with(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> dict[str, float]:
         saved = self._snapshot()
-        status = genalpha.advance(self.model, self.options, self.state, self.workspace, t_end, t0, coef)
+        status = genalpha.advance(self.model, self.options, self.state, self.workspace, t_end, *drive)
         if status != genalpha.OK:
             reached = self.time
             self._restore(saved)
@@ -195,9 +231,12 @@ class Simulation:
         t0 = self.time
         if not (math.isfinite(t_end) and t_end > t0):
             raise SceneError("t_end", t_end, f"a finite time > {t0:g} s")
-        coef = drive_poly.quintic_drive(t_end - t0, self.motion.evaluate(t0), self.motion.evaluate(t_end),
-                                        self._setpoint, self._setpoint)
-        return self._advance_with(t_end, coef, t0)
+        # knots no farther apart than the solver step: the quintic Hermite pieces then
+        # follow any motion the solver itself can resolve
+        n = max(1, math.ceil((t_end - t0) / self.options.h_max - 1e-9))
+        times = np.linspace(t0, t_end, n + 1)
+        setpoints = np.tile(self._setpoint, (n + 1, 1))
+        return self._advance_with(t_end, drive_poly.knot_drive(times, self.motion.evaluate_many(times), setpoints))
 
     def step(self, dt: float, ship: np.ndarray, setpoint: tuple[float, float] | None = None) -> dict[str, float]:
         """Advance by ``dt`` with the ship state given at the start of the step (FMU style).
@@ -229,7 +268,7 @@ class Simulation:
                 raise SceneError("setpoint", tuple(setpoint), "finite phi_sp [rad] and phi_sp_rate [rad/s]")
             self._setpoint = (float(setpoint[0]), float(setpoint[1]))
         t0 = self.time
-        return self._advance_with(t0 + dt, drive_poly.taylor_drive(ship, self._setpoint), t0)
+        return self._advance_with(t0 + dt, drive_poly.taylor_drive(t0, ship, self._setpoint))
 
     # --------------------------------------------------------------- outputs
     def reactions(self) -> np.ndarray:
@@ -248,6 +287,25 @@ class Simulation:
         """Node velocities [m/s], shape (nn, 3)."""
         return self.state.v.reshape(-1, 2, 3)[:, 0, :].copy()
 
+    def shape(self, points_per_element: int = 8) -> tuple[np.ndarray, np.ndarray]:
+        """The cable centreline sampled within the elements (for plots and sag).
+
+        Returns
+        -------
+        arc, positions
+            Unstretched arc length from the top [m], shape (k,), and positions [m], (k, 3).
+        """
+        xi = np.linspace(0.0, 1.0, points_per_element + 1)[:-1]
+        x = self.state.q.reshape(-1, 6)
+        arcs, pts = [], []
+        for e, length in enumerate(self.mesh.lengths):
+            n = element.shape_functions(xi, length)
+            pts.append(n[:, [0]] * x[e, :3] + n[:, [1]] * x[e, 3:] + n[:, [2]] * x[e + 1, :3] + n[:, [3]] * x[e + 1, 3:])
+            arcs.append(self.mesh.node_arc[e] + xi * length)
+        arcs.append([self.mesh.node_arc[-1]])
+        pts.append(x[-1:, :3])
+        return np.concatenate(arcs), np.concatenate(pts)
+
     def tension_profile(self) -> tuple[np.ndarray, np.ndarray]:
         """Tension along the cable at element ends and mid-points.
 
@@ -260,12 +318,6 @@ class Simulation:
         arc = self.mesh.node_arc[:-1, None] + self.mesh.lengths[:, None] * _PROFILE_XI[None, :]
         return arc.ravel(), t.ravel()
 
-    def _end_tension(self, node: int, reactions: np.ndarray, profile_end: float) -> float:
-        i0 = 6 * node
-        if self.model.free_idx[i0] < 0:
-            return float(np.linalg.norm(reactions[i0:i0 + 3]))
-        return max(profile_end, 0.0)
-
     def outputs(self) -> dict[str, float]:
         """Named outputs at the current time (names as in DESIGN.md), SI units.
 
@@ -276,17 +328,15 @@ class Simulation:
         """
         st = self.state
         m = self.model
-        nn = self.mesh.n_nodes
-        reactions = self.reactions()
-        _, prof = self.tension_profile()
-        out: dict[str, float] = {"time": self.time}
-        out["tension.top"] = self._end_tension(0, reactions, prof[0])
-        out["tension.bottom"] = self._end_tension(nn - 1, reactions, prof[-1])
-        out["tension.max"] = float(max(prof.max(), out["tension.top"], out["tension.bottom"]))
-        out["tension.min"] = float(prof.min())
-        out["angle.top"] = measures.angle_from_vertical(st.q[3:6])
-        last = 6 * (nn - 1)
+        vals = measures.summary(m, st.q, st.v, st.a, self.time, self.workspace.ship, _PROFILE_XI, self.workspace.r)
+        (reaction_top, reaction_bottom, t_first, t_last, t_max, t_min, kinetic, strain, gravity) = vals
+        top = reaction_top if m.free_idx[0] < 0 else max(t_first, 0.0)
+        bottom = reaction_bottom if m.free_idx[-6] < 0 else max(t_last, 0.0)
+        out: dict[str, float] = {"time": self.time, "tension.top": float(top), "tension.bottom": float(bottom),
+                                 "tension.max": float(max(t_max, top, bottom)), "tension.min": float(t_min),
+                                 "angle.top": measures.angle_from_vertical(st.q[3:6])}
         if self.scene.towbody is not None:
+            last = st.q.size - 6
             # force of the cable on the body: m a minus the body's own external forces
             body_external = np.array([0.0, 0.0, -self.scene.towbody.mass * self.scene.environment.gravity])
             force = m.node_mass[-1] * st.a[last:last + 3] - body_external
@@ -294,17 +344,11 @@ class Simulation:
             for k, c in enumerate("xyz"):
                 out[f"towbody.{c}"] = float(st.q[last + k])
                 out[f"towbody.v{c}"] = float(st.v[last + k])
-        out["energy.kinetic"] = measures.kinetic_energy(m, st.v)
-        out["energy.strain"] = self._strain_energy()
-        out["energy.gravity"] = measures.gravity_energy(m, st.q)
+        out["energy.kinetic"] = float(kinetic)
+        out["energy.strain"] = float(strain)
+        out["energy.gravity"] = float(gravity)
         out["winch.phi"] = float(st.phi[0])
         return out
-
-    def _strain_energy(self) -> float:
-        r = np.zeros_like(self.state.q)
-        zero = np.zeros_like(self.state.q)
-        axial = residual(self.model, self.state.q, zero, zero, self.time, self.workspace.ship, r)
-        return float(axial + measures.bending_energy(self.model, self.state.q))
 
     def statistics(self) -> dict[str, float]:
         """Solver counters since initialisation, plus the statics result."""

@@ -191,20 +191,18 @@ def axial_tangent(x: np.ndarray, length: float, ea: float, tension_only: bool, d
 
 
 @njit(cache=True)
-def axial_strain_at(x: np.ndarray, length: float, d: np.ndarray, gw: np.ndarray, lam: np.ndarray,
-                    u: np.ndarray, dn_at: np.ndarray) -> float:
-    """Decoupled Green strain W(45) at one point of the element.
+def axial_strains(x: np.ndarray, length: float, d: np.ndarray, gw: np.ndarray, lam: np.ndarray,
+                  u: np.ndarray, dn_at: np.ndarray, out: np.ndarray) -> None:
+    """Decoupled Green strain W(45) at points of the element.
 
     Parameters
     ----------
     dn_at
-        dn_i/dxi of the normalised Hermite functions at the point, shape (4,).
-
-    Returns
-    -------
-    float
-        Strain eps [-]; the tension is EA * eps.
+        dn_i/dxi of the normalised Hermite functions at the points, shape (k, 4).
+    out
+        Output strains eps [-], shape (k,).
     """
     a0, s, a1 = _kinematics(x, d, length, gw, lam, u)
-    ld = dn_at[1] * a0 + dn_at[2] / length * s + dn_at[3] * a1
-    return 0.5 * (ld * ld - 1.0)
+    for k in range(dn_at.shape[0]):
+        ld = dn_at[k, 1] * a0 + dn_at[k, 2] / length * s + dn_at[k, 3] * a1
+        out[k] = 0.5 * (ld * ld - 1.0)

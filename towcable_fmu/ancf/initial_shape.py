@@ -6,8 +6,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 
-def straight(top: np.ndarray, direction: np.ndarray, node_arc: np.ndarray) -> np.ndarray:
-    """Unstretched straight cable from ``top`` along ``direction``.
+def straight(top: np.ndarray, direction: np.ndarray, node_arc: np.ndarray, stretch: float = 1.0) -> np.ndarray:
+    """Straight cable from ``top`` along ``direction``.
 
     Parameters
     ----------
@@ -17,6 +17,8 @@ def straight(top: np.ndarray, direction: np.ndarray, node_arc: np.ndarray) -> np
         Direction of the cable (normalised here).
     node_arc
         Unstretched arc length of each node [m], shape (nn,).
+    stretch
+        Ratio of laid-out to unstretched length (1: unstretched; < 1: compressed).
 
     Returns
     -------
@@ -26,8 +28,8 @@ def straight(top: np.ndarray, direction: np.ndarray, node_arc: np.ndarray) -> np
     d = np.asarray(direction, dtype=float)
     d = d / np.linalg.norm(d)
     x = np.zeros((node_arc.size, 2, 3))
-    x[:, 0, :] = top[None, :] + node_arc[:, None] * d[None, :]
-    x[:, 1, :] = d
+    x[:, 0, :] = top[None, :] + stretch * node_arc[:, None] * d[None, :]
+    x[:, 1, :] = stretch * d
     return x.ravel()
 
 
@@ -55,7 +57,7 @@ def sag(top: np.ndarray, bottom: np.ndarray, sag_direction: np.ndarray, node_arc
         w = np.cross(ex, [0.0, 1.0, 0.0] if abs(ex[1]) < 0.9 else [1.0, 0.0, 0.0])
     ey = w / np.linalg.norm(w)
     if total <= span:
-        return straight(top, ex, node_arc * span / total)
+        return straight(top, ex, node_arc, span / total)
 
     u_fine = np.linspace(0.0, 1.0, 2001)
 

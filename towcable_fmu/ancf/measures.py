@@ -5,13 +5,22 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .axial import axial_strain_at, slope_derivatives
-from .system import CableModel
+from .axial import axial_strains, slope_derivatives
+from .system import CableModel, residual
+
+#: Entries of the array returned by :func:`summary`.
+SUMMARY_FIELDS = ("reaction_top", "reaction_bottom", "tension_first", "tension_last", "tension_max",
+                  "tension_min", "energy_kinetic", "energy_strain", "energy_gravity")
 
 
 @njit(cache=True)
 def tension_profile(model: CableModel, q: np.ndarray, xi: np.ndarray) -> np.ndarray:
-    """Axial force EA * eps (decoupled strain, W(45)) at normalised positions in every element.
+    """Axial force at normalised positions in every element.
+
+    The force transmitted by the cable is the derivative of the strain energy
+    ``EA/2 eps^2`` with respect to the stretched length: ``T = EA eps lambda`` with the
+    decoupled Green strain ``eps`` (W(45)) and the stretch ``lambda = sqrt(1 + 2 eps)``;
+    it is the force a support reacts with, and equals ``EA eps`` to first order.
 
     Parameters
     ----------
@@ -32,21 +41,25 @@ def tension_profile(model: CableModel, q: np.ndarray, xi: np.ndarray) -> np.ndar
     d = np.empty((ng, 4))
     lam = np.empty(ng)
     u = np.empty((ng, 3))
-    dn = np.empty(4)
-    out = np.empty((ne, xi.shape[0]))
+    nk = xi.shape[0]
+    dn = np.empty((nk, 4))
+    for k in range(nk):
+        x = xi[k]
+        dn[k, 0] = -6.0 * x + 6.0 * x * x
+        dn[k, 1] = 1.0 - 4.0 * x + 3.0 * x * x
+        dn[k, 2] = 6.0 * x - 6.0 * x * x
+        dn[k, 3] = 3.0 * x * x - 2.0 * x
+    eps = np.empty(nk)
+    out = np.empty((ne, nk))
     for e in range(ne):
         length = model.el_len[e]
         slope_derivatives(model.gauss_dn, length, d)
-        for k in range(xi.shape[0]):
-            x = xi[k]
-            dn[0] = -6.0 * x + 6.0 * x * x
-            dn[1] = 1.0 - 4.0 * x + 3.0 * x * x
-            dn[2] = 6.0 * x - 6.0 * x * x
-            dn[3] = 3.0 * x * x - 2.0 * x
-            eps = axial_strain_at(q[6 * e:6 * e + 12], length, d, model.gauss_w, lam, u, dn)
-            if model.el_tension_only[e] and eps < 0.0:
-                eps = 0.0
-            out[e, k] = model.el_ea[e] * eps
+        axial_strains(q[6 * e:6 * e + 12], length, d, model.gauss_w, lam, u, dn, eps)
+        for k in range(nk):
+            ek = eps[k]
+            if model.el_tension_only[e] and ek < 0.0:
+                ek = 0.0
+            out[e, k] = model.el_ea[e] * ek * np.sqrt(max(1.0 + 2.0 * ek, 0.0))
     return out
 
 
@@ -82,9 +95,42 @@ def bending_energy(model: CableModel, q: np.ndarray) -> float:
     return energy
 
 
+@njit(cache=True)
 def gravity_energy(model: CableModel, q: np.ndarray) -> float:
     """Potential energy of gravity (and any other constant load) -f_const . q [J]."""
-    return float(-model.f_const @ q)
+    energy = 0.0
+    for i in range(q.shape[0]):
+        energy -= model.f_const[i] * q[i]
+    return energy
+
+
+@njit(cache=True)
+def summary(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: float, ship: np.ndarray,
+            xi: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """The scalar outputs of a state in one compiled pass (order: :data:`SUMMARY_FIELDS`).
+
+    Reactions are the magnitudes of the residual at the end nodes' position rows
+    (zero at a free end); ``r`` receives the full residual.
+    """
+    out = np.zeros(len(SUMMARY_FIELDS))
+    axial = residual(model, q, v, a, t, ship, r)
+    last = q.shape[0] - 6
+    for c in range(3):
+        if model.free_idx[c] < 0:
+            out[0] += r[c] * r[c]
+        if model.free_idx[last + c] < 0:
+            out[1] += r[last + c] * r[last + c]
+    out[0] = np.sqrt(out[0])
+    out[1] = np.sqrt(out[1])
+    prof = tension_profile(model, q, xi)
+    out[2] = prof[0, 0]
+    out[3] = prof[-1, -1]
+    out[4] = prof.max()
+    out[5] = prof.min()
+    out[6] = kinetic_energy(model, v)
+    out[7] = axial + bending_energy(model, q)
+    out[8] = gravity_energy(model, q)
+    return out
 
 
 def angle_from_vertical(direction: np.ndarray) -> float:

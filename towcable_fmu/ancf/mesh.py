@@ -125,13 +125,15 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
     if not any(kind in (FIXED_POINT, SHIP_POINT) for _, kind, _ in att):
         raise SceneError("cable.top.type", scene.cable.top.type, "an end with a prescribed position")
     width = _band_width(free_idx, ne)
+    node_length = np.minimum(np.concatenate([el_len[:1], el_len]), np.concatenate([el_len, el_len[-1:]]))
+    scale = np.where(free_dofs % 6 < 3, 1.0 / node_length[free_dofs // 6], 1.0)
 
     gx, gw = element.gauss_legendre(AXIAL_GAUSS_POINTS)
     return CableModel(
         el_len=el_len, el_ea=el_ea, el_tension_only=el_tension_only, el_mass=el_mass, el_bend=el_bend,
         el_damp=el_damp, f_const=f_const, node_mass=node_mass,
         gauss_dn=element.shape_derivatives(gx, 1.0), gauss_w=gw,
-        free_idx=free_idx, free_dofs=free_dofs.astype(np.int64), kl=width, ku=width,
+        free_idx=free_idx, free_dofs=free_dofs.astype(np.int64), free_scale=scale, kl=width, ku=width,
         att_index=np.array([a[0] for a in att], dtype=np.int64),
         att_kind=np.array([a[1] for a in att], dtype=np.int64),
         att_vec=np.array([a[2] for a in att], dtype=float).reshape(-1, 3),

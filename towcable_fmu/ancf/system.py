@@ -41,6 +41,7 @@ class CableModel(NamedTuple):
     gauss_w: np.ndarray         #: (ng,) Gauss weights on [0, 1]
     free_idx: np.ndarray        #: (nf,) unknown index of each coordinate, -1 if prescribed
     free_dofs: np.ndarray       #: (n,) coordinate index of each unknown
+    free_scale: np.ndarray      #: (n,) 1/length of the adjacent elements for positions, 1 for slopes [1/m, -]
     kl: int                     #: sub-diagonals of the iteration matrix
     ku: int                     #: super-diagonals of the iteration matrix
     att_index: np.ndarray       #: (na,) first coordinate of each prescribed triple
@@ -50,14 +51,16 @@ class CableModel(NamedTuple):
 
 
 @njit(cache=True)
-def _kron_apply(mat: np.ndarray, x: np.ndarray, base: int, out: np.ndarray) -> None:
-    """out[base:base+12] += (mat (x) I3) x[base:base+12]."""
+def _linear_forces(mass: np.ndarray, damp: np.ndarray, bend: np.ndarray, q: np.ndarray, v: np.ndarray,
+                   a: np.ndarray, base: int, out: np.ndarray) -> None:
+    """out[base:base+12] += (M (x) I3) a + (C (x) I3) v + (K_b (x) I3) q for one element."""
     for i in range(4):
-        for j in range(4):
-            mij = mat[i, j]
-            if mij != 0.0:
-                for c in range(3):
-                    out[base + 3 * i + c] += mij * x[base + 3 * j + c]
+        for c in range(3):
+            acc = 0.0
+            for j in range(4):
+                k = base + 3 * j + c
+                acc += mass[i, j] * a[k] + damp[i, j] * v[k] + bend[i, j] * q[k]
+            out[base + 3 * i + c] += acc
 
 
 @njit(cache=True)
@@ -94,9 +97,7 @@ def residual(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: 
     energy = 0.0
     for e in range(ne):
         base = 6 * e
-        _kron_apply(model.el_mass[e], a, base, out)
-        _kron_apply(model.el_damp[e], v, base, out)
-        _kron_apply(model.el_bend[e], q, base, out)
+        _linear_forces(model.el_mass[e], model.el_damp[e], model.el_bend[e], q, v, a, base, out)
         length = model.el_len[e]
         slope_derivatives(model.gauss_dn, length, d)
         fe[:] = 0.0

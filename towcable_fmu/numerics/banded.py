@@ -99,3 +99,28 @@ def band_solve(ab: np.ndarray, n: int, kl: int, ku: int, ipiv: np.ndarray, b: np
             lim = min(kv, j)
             for i in range(1, lim + 1):
                 b[j - i] -= ab[kv - i, j] * bj
+
+
+@njit(cache=True)
+def band_positive_pivots(ab: np.ndarray, n: int, kl: int, ku: int, work: np.ndarray) -> bool:
+    """True if Gaussian elimination WITHOUT pivoting meets only positive pivots.
+
+    For a symmetric matrix this is the test for positive definiteness (Sylvester's
+    criterion through the LDL^T factorisation). ``ab`` is left unchanged; ``work``
+    (same shape) is overwritten.
+    """
+    kv = kl + ku
+    work[:, :] = ab
+    for j in range(n):
+        piv = work[kv, j]
+        if not piv > 0.0:
+            return False
+        km = min(kl, n - 1 - j)
+        for i in range(1, km + 1):
+            work[kv + i, j] /= piv
+        for c in range(j + 1, min(j + ku, n - 1) + 1):
+            ujc = work[kv + j - c, c]
+            if ujc != 0.0:
+                for i in range(1, km + 1):
+                    work[kv + j - c + i, c] -= work[kv + i, j] * ujc
+    return True

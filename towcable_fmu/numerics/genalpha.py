@@ -19,7 +19,9 @@ once and reused over steps while convergence is fast (modified Newton); it is
 refreshed when convergence slows, the step size changes, or it is too old.
 Convergence test (Hairer & Wanner): the estimated remaining error
 ``theta/(1-theta) * |dq|`` is below ``newton_tol``, with the contraction rate theta of
-the previous step used on the first iteration.
+the previous step used on the first iteration; ``|dq|`` is the largest correction
+with positions divided by the adjacent element length (a strain-like, scale-free
+measure: the tension error it allows is about EA * newton_tol).
 
 Local error estimate (Zienkiewicz & Xie): ``e = h^2 |beta - 1/6| |abar_{n+1} - abar_n|``,
 weighted by ``atol + rtol |q|``; it drives the step size in adaptive mode and is
@@ -138,17 +140,15 @@ def scheme_coefficients(rho_inf: float):
 
 
 @njit(cache=True)
-def evaluate_drive(t0: float, coef: np.ndarray, t: float, ship: np.ndarray) -> tuple:
-    """Ship state and winch set-point at time t from drive polynomials.
+def evaluate_drive(drive_t: np.ndarray, drive_x: np.ndarray, t: float, ship: np.ndarray) -> tuple:
+    """Ship state and winch set-point at time t from a drive table (see towcable_fmu.drive).
 
     Parameters
     ----------
-    t0
-        Start of the drive interval [s].
-    coef
-        Polynomial coefficients in ``tau = t - t0``, shape (7, k): rows 0-5 the ship
-        degrees of freedom (x, y, z [m], roll, pitch, yaw [rad]), row 6 the winch
-        set-point phi_sp [rad].
+    drive_t
+        Knot times [s], shape (K,).
+    drive_x
+        Value, rate and acceleration of the 7 channels at the knots, shape (K, 3, 7).
     t
         Evaluation time [s].
     ship
@@ -159,25 +159,58 @@ def evaluate_drive(t0: float, coef: np.ndarray, t: float, ship: np.ndarray) -> t
     (phi_sp, phi_sp_rate)
         Winch set-point [rad] and its rate [rad/s].
     """
-    tau = t - t0
-    nk = coef.shape[1]
-    sp = 0.0
-    sp_rate = 0.0
-    for i in range(7):
-        p = 0.0
-        dp = 0.0
-        ddp = 0.0
-        for k in range(nk - 1, -1, -1):
-            ddp = ddp * tau + 2.0 * dp
-            dp = dp * tau + p
-            p = p * tau + coef[i, k]
-        if i < 6:
-            ship[0, i] = p
-            ship[1, i] = dp
-            ship[2, i] = ddp
-        else:
-            sp = p
-            sp_rate = dp
+    nk = drive_t.shape[0]
+    if nk == 1:
+        tau = t - drive_t[0]
+        for c in range(6):
+            p, v, a = drive_x[0, 0, c], drive_x[0, 1, c], drive_x[0, 2, c]
+            ship[0, c] = p + tau * (v + 0.5 * tau * a)
+            ship[1, c] = v + tau * a
+            ship[2, c] = a
+        return drive_x[0, 0, 6] + tau * drive_x[0, 1, 6], drive_x[0, 1, 6]
+    k = 0
+    while k < nk - 2 and t > drive_t[k + 1]:
+        k += 1
+    dt = drive_t[k + 1] - drive_t[k]
+    s = (t - drive_t[k]) / dt
+    s2 = s * s
+    s3 = s2 * s
+    s4 = s3 * s
+    s5 = s4 * s
+    # quintic Hermite basis (value, first and second derivative in s) for the ship channels
+    h = np.empty((6, 3))
+    h[0, 0] = 1.0 - 10.0 * s3 + 15.0 * s4 - 6.0 * s5
+    h[1, 0] = s - 6.0 * s3 + 8.0 * s4 - 3.0 * s5
+    h[2, 0] = 0.5 * s2 - 1.5 * s3 + 1.5 * s4 - 0.5 * s5
+    h[3, 0] = 10.0 * s3 - 15.0 * s4 + 6.0 * s5
+    h[4, 0] = -4.0 * s3 + 7.0 * s4 - 3.0 * s5
+    h[5, 0] = 0.5 * s3 - s4 + 0.5 * s5
+    h[0, 1] = -30.0 * s2 + 60.0 * s3 - 30.0 * s4
+    h[1, 1] = 1.0 - 18.0 * s2 + 32.0 * s3 - 15.0 * s4
+    h[2, 1] = s - 4.5 * s2 + 6.0 * s3 - 2.5 * s4
+    h[3, 1] = 30.0 * s2 - 60.0 * s3 + 30.0 * s4
+    h[4, 1] = -12.0 * s2 + 28.0 * s3 - 15.0 * s4
+    h[5, 1] = 1.5 * s2 - 4.0 * s3 + 2.5 * s4
+    h[0, 2] = -60.0 * s + 180.0 * s2 - 120.0 * s3
+    h[1, 2] = -36.0 * s + 96.0 * s2 - 60.0 * s3
+    h[2, 2] = 1.0 - 9.0 * s + 18.0 * s2 - 10.0 * s3
+    h[3, 2] = 60.0 * s - 180.0 * s2 + 120.0 * s3
+    h[4, 2] = -24.0 * s + 84.0 * s2 - 60.0 * s3
+    h[5, 2] = 3.0 * s - 12.0 * s2 + 10.0 * s3
+    scale = (1.0, 1.0 / dt, 1.0 / (dt * dt))
+    for c in range(6):
+        a = drive_x[k, :, c]
+        b = drive_x[k + 1, :, c]
+        for d in range(3):
+            val = (h[0, d] * a[0] + h[1, d] * dt * a[1] + h[2, d] * dt * dt * a[2]
+                   + h[3, d] * b[0] + h[4, d] * dt * b[1] + h[5, d] * dt * dt * b[2])
+            ship[d, c] = val * scale[d]
+    # cubic Hermite for the set-point (value and rate only)
+    p0, r0, p1, r1 = drive_x[k, 0, 6], drive_x[k, 1, 6], drive_x[k + 1, 0, 6], drive_x[k + 1, 1, 6]
+    sp = ((2.0 * s3 - 3.0 * s2 + 1.0) * p0 + (s3 - 2.0 * s2 + s) * dt * r0
+          + (-2.0 * s3 + 3.0 * s2) * p1 + (s3 - s2) * dt * r1)
+    sp_rate = ((6.0 * s2 - 6.0 * s) * p0 + (3.0 * s2 - 4.0 * s + 1.0) * dt * r0
+               + (-6.0 * s2 + 6.0 * s) * p1 + (3.0 * s2 - 2.0 * s) * dt * r1) / dt
     return sp, sp_rate
 
 
@@ -225,7 +258,7 @@ def refactorize_from_state(model: CableModel, opt: SolverOptions, st: Integrator
 
 @njit(cache=True)
 def initial_acceleration(model: CableModel, st: IntegratorState, ws: Workspace, t: float,
-                         drive_t0: float, drive: np.ndarray) -> bool:
+                         drive_t: np.ndarray, drive_x: np.ndarray) -> bool:
     """Set prescribed kinematics at t and solve ``M a = -F`` for consistent accelerations.
 
     Also initialises the winch acceleration from the PD law (gains taken as zero here:
@@ -236,7 +269,7 @@ def initial_acceleration(model: CableModel, st: IntegratorState, ws: Workspace, 
     bool
         False if the mass matrix is singular or the forces are not finite.
     """
-    evaluate_drive(drive_t0, drive, t, ws.ship)
+    evaluate_drive(drive_t, drive_x, t, ws.ship)
     apply_prescribed(model.att_index, model.att_kind, model.att_vec, model.att_radius, ws.ship, st.phi,
                      st.q, st.v, st.a)
     for i in range(model.free_dofs.shape[0]):
@@ -278,10 +311,10 @@ def _winch_step(opt, st, h, sp, sp_rate, am, af, gamma, beta):
 
 
 @njit(cache=True)
-def _try_step(model, opt, st, ws, h, drive_t0, drive, am, af, gamma, beta):
+def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
     """One step attempt of size h. Returns 0 accepted, 1 Newton failure, 2 error-test failure."""
     t1 = st.clock[0] + h
-    sp, sp_rate = evaluate_drive(drive_t0, drive, t1, ws.ship)
+    sp, sp_rate = evaluate_drive(drive_t, drive_x, t1, ws.ship)
     _winch_step(opt, st, h, sp, sp_rate, am, af, gamma, beta)
     scale = (1.0 - af) / (1.0 - am)
     bp = h * h * beta * scale
@@ -322,7 +355,7 @@ def _try_step(model, opt, st, ws, h, drive_t0, drive, am, af, gamma, beta):
             st.abar[k] += scale * d
             st.v[k] += gp * d
             st.q[k] += bp * d
-            dnorm = max(dnorm, abs(bp * d))
+            dnorm = max(dnorm, abs(bp * d) * model.free_scale[i])
         if not math.isfinite(dnorm):
             break
         if it > 0:
@@ -363,7 +396,7 @@ def _restore(st, ws, phi0):
 
 @njit(cache=True)
 def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Workspace, t_end: float,
-            drive_t0: float, drive: np.ndarray) -> int:
+            drive_t: np.ndarray, drive_x: np.ndarray) -> int:
     """Integrate from the state's time to ``t_end`` (landing on it exactly).
 
     Parameters
@@ -374,8 +407,8 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
         Integrator state (modified) and workspace.
     t_end
         Target time [s].
-    drive_t0, drive
-        Drive polynomials (see :func:`evaluate_drive`) valid over the interval.
+    drive_t, drive_x
+        Drive table (see :func:`evaluate_drive`) covering the interval.
 
     Returns
     -------
@@ -400,13 +433,13 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
         ws.a0[:] = st.a
         ws.abar0[:] = st.abar
         phi0[:] = st.phi
-        status = _try_step(model, opt, st, ws, h_try, drive_t0, drive, am, af, gamma, beta)
+        status = _try_step(model, opt, st, ws, h_try, drive_t, drive_x, am, af, gamma, beta)
         if status == 1 and st.jac[JAC_AGE] > 0.0:
             # stale Jacobian: retry the same step with a fresh one
             _restore(st, ws, phi0)
             st.jac[JAC_VALID] = 0.0
             st.jac[JAC_ETA] = 1.0
-            status = _try_step(model, opt, st, ws, h_try, drive_t0, drive, am, af, gamma, beta)
+            status = _try_step(model, opt, st, ws, h_try, drive_t, drive_x, am, af, gamma, beta)
         if status == 0:
             st.stats[STAT_STEPS] += 1
             streak += 1

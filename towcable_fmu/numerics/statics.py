@@ -5,9 +5,14 @@ initial shape. Each iteration solves ``(K + M/tau) dq = -F`` with the tangent
 stiffness K and the mass matrix M as regulariser: for small pseudo time step ``tau``
 this is a heavily damped implicit dynamic step (robust far from equilibrium, e.g. a
 slack initial shape), for large ``tau`` it is Newton's method (quadratic convergence
-near equilibrium). ``tau`` grows as the residual falls (switched evolution
-relaxation, Mulder & van Leer 1985; Kelley & Keyes 1998); a step that increases the
-residual a lot, or produces non-finite values, is rejected and ``tau`` shrinks.
+near equilibrium). ``tau`` is kept small enough that ``K + M/tau`` is positive
+definite (checked by elimination without pivoting), so that every step goes
+downhill and the iteration cannot settle on a saddle such as a straight cable in
+compression. After an accepted step ``tau`` grows by the factor the residual
+fell (switched evolution relaxation, Mulder & van Leer 1985; Kelley & Keyes 1998),
+and at least twofold; a step that increases the residual tenfold, or produces
+non-finite values, is rejected and ``tau`` shrinks fourfold. Position changes per
+iteration are capped at half the shortest element.
 """
 
 from __future__ import annotations
@@ -21,7 +26,7 @@ import numpy as np
 from ..ancf.prescribed import apply_prescribed
 from ..ancf.system import CableModel, iteration_matrix, residual
 from ..errors import SolverError
-from .banded import band_lu, band_solve
+from .banded import band_lu, band_positive_pivots, band_solve
 
 
 @dataclasses.dataclass
@@ -49,10 +54,64 @@ class StaticsResult:
     wall_time: float
 
 
+def _ptc(model: CableModel, q: np.ndarray, ship: np.ndarray, t: float, tolerance: float, max_iterations: int,
+         tau0: float, move_limit: float) -> tuple[np.ndarray, int, float, float, bool]:
+    """PTC iterations; returns (q, iterations, residual norm, load scale, converged)."""
+    v = np.zeros_like(q)
+    a = np.zeros_like(q)
+    n = model.free_dofs.size
+    free = model.free_dofs
+    position_dof = (free % 6) < 3
+    ab = np.zeros((2 * model.kl + model.ku + 1, n))
+    work = np.zeros_like(ab)
+    ipiv = np.zeros(n, dtype=np.int64)
+    r = np.zeros(q.size)
+
+    def out_of_balance(x: np.ndarray) -> tuple[float, float]:
+        residual(model, x, v, a, t, ship, r)
+        reaction = np.abs(np.delete(r, free)).max(initial=0.0)
+        return float(np.abs(r[free]).max(initial=0.0)), reaction
+
+    norm, reaction = out_of_balance(q)
+    weight = float(np.abs(model.f_const).sum())
+    tau = tau0
+    it = 0
+    while True:
+        scale = max(weight, reaction, 1e-9)
+        if math.isfinite(norm) and norm <= tolerance * scale:
+            return q, it, norm, scale, True
+        if it == max_iterations:
+            return q, it, norm, scale, False
+        it += 1
+        residual(model, q, v, a, t, ship, r)
+        rhs = -r[free]
+        iteration_matrix(model, q, v, t, ship, 1.0 / tau, 0.0, 1.0, ab)
+        if not band_positive_pivots(ab, n, model.kl, model.ku, work) or band_lu(ab, n, model.kl, model.ku, ipiv):
+            tau *= 0.25  # keep K + M/tau positive definite: descend, never climb to a saddle
+            continue
+        band_solve(ab, n, model.kl, model.ku, ipiv, rhs)
+        biggest = np.abs(rhs[position_dof]).max(initial=0.0)
+        if biggest > move_limit:
+            rhs *= move_limit / biggest
+        trial = q.copy()
+        trial[free] += rhs
+        new_norm, new_reaction = out_of_balance(trial)
+        if not math.isfinite(new_norm) or new_norm > 10.0 * norm:
+            tau *= 0.25
+            continue
+        tau = min(tau * max(norm / max(new_norm, 1e-300), 2.0), 1e12)
+        q, norm, reaction = trial, new_norm, new_reaction
+
+
 def solve_statics(model: CableModel, q0: np.ndarray, ship: np.ndarray, phi: np.ndarray, t: float,
                   tolerance: float = 1e-8, max_iterations: int = 400, tau0: float = 1e-3,
                   max_move: float | None = None) -> StaticsResult:
     """Bring the cable to rest.
+
+    Two phases: first the cable is treated as unable to carry compression (a rough
+    initial shape laid too short or folded then holds no spurious compressive energy
+    and simply falls into shape), to a loose tolerance; then the scene's own material
+    law takes over from that shape to the requested tolerance.
 
     Parameters
     ----------
@@ -70,7 +129,7 @@ def solve_statics(model: CableModel, q0: np.ndarray, ship: np.ndarray, phi: np.n
         Converged when the largest out-of-balance force is below ``tolerance`` times
         the load scale.
     max_iterations
-        Iteration limit.
+        Iteration limit of each phase.
     tau0
         Initial pseudo time step [s^2].
     max_move
@@ -94,46 +153,11 @@ def solve_statics(model: CableModel, q0: np.ndarray, ship: np.ndarray, phi: np.n
     a = np.zeros_like(q)
     apply_prescribed(model.att_index, model.att_kind, model.att_vec, model.att_radius, ship_static, phi_static,
                      q, v, a)
-    v[:] = 0.0
-    a[:] = 0.0
-    n = model.free_dofs.size
-    free = model.free_dofs
-    position_dof = (free % 6) < 3
     move_limit = 0.5 * float(model.el_len.min()) if max_move is None else max_move
-    ab = np.zeros((2 * model.kl + model.ku + 1, n))
-    ipiv = np.zeros(n, dtype=np.int64)
-    r = np.zeros(q.size)
-
-    def out_of_balance(x: np.ndarray) -> tuple[float, float]:
-        residual(model, x, v, a, t, ship_static, r)
-        fr = r[free]
-        reaction = np.abs(np.delete(r, free)).max(initial=0.0)
-        return float(np.abs(fr).max(initial=0.0)), reaction
-
-    norm, reaction = out_of_balance(q)
-    weight = float(np.abs(model.f_const).sum())
-    tau = tau0
-    for it in range(1, max_iterations + 1):
-        scale = max(weight, reaction, 1e-9)
-        if math.isfinite(norm) and norm <= tolerance * scale:
-            return StaticsResult(q, it - 1, norm, scale, time.perf_counter() - start)
-        residual(model, q, v, a, t, ship_static, r)
-        rhs = -r[free]
-        iteration_matrix(model, q, v, t, ship_static, 1.0 / tau, 0.0, 1.0, ab)
-        if band_lu(ab, n, model.kl, model.ku, ipiv) != 0:
-            tau *= 0.1
-            continue
-        band_solve(ab, n, model.kl, model.ku, ipiv, rhs)
-        biggest = np.abs(rhs[position_dof]).max(initial=0.0)
-        if biggest > move_limit:
-            rhs *= move_limit / biggest
-        trial = q.copy()
-        trial[free] += rhs
-        new_norm, new_reaction = out_of_balance(trial)
-        if not math.isfinite(new_norm) or new_norm > 10.0 * norm:
-            tau *= 0.25
-            continue
-        tau = min(tau * max(norm / max(new_norm, 1e-300), 0.5), 1e12)
-        q, norm, reaction = trial, new_norm, new_reaction
-    raise SolverError(f"statics did not converge in {max_iterations} iterations: largest out-of-balance "
-                      f"force {norm:.3g} N (tolerance {tolerance:g} x load scale {max(weight, reaction):.3g} N)")
+    slack_model = model._replace(el_tension_only=np.ones_like(model.el_tension_only))
+    q, it1, _, _, _ = _ptc(slack_model, q, ship_static, t, max(tolerance, 1e-4), max_iterations, tau0, move_limit)
+    q, it2, norm, scale, converged = _ptc(model, q, ship_static, t, tolerance, max_iterations, tau0, move_limit)
+    if not converged:
+        raise SolverError(f"statics did not converge in {max_iterations} iterations: largest out-of-balance "
+                          f"force {norm:.3g} N (tolerance {tolerance:g} x load scale {scale:.3g} N)")
+    return StaticsResult(q, it1 + it2, norm, scale, time.perf_counter() - start)

@@ -74,7 +74,8 @@ class InitialShape:
 
     shape: str = spec("auto", choices=("auto", "straight", "sag"),
                       doc="auto: 'sag' between two prescribed ends, else 'straight'; straight: along "
-                          "'direction' from the top end; sag: a parabola between the two ends")
+                          "'direction' from the top end (with a prescribed bottom end: along the chord, "
+                          "compressed or stretched to fit); sag: a parabola between the two ends")
     direction: tuple[float, ...] = spec([0.0, 0.0, -1.0], unit="-", length=3,
                                         doc="direction of a straight initial cable from its top end")
     sag_direction: tuple[float, ...] = spec([0.0, 0.0, -1.0], unit="-", length=3,
@@ -128,8 +129,10 @@ class SolverSettings:
     adaptive: bool = spec(False, doc="adapt the step to keep the local error estimate below rtol/atol")
     rtol: float = spec(1e-3, unit="-", gt=0.0, lt=1.0, doc="relative local error tolerance (adaptive mode)")
     atol: float = spec(1e-4, unit="m", gt=0.0, doc="absolute local error tolerance (adaptive mode)")
-    newton_tol: float = spec(1e-8, unit="m", gt=0.0, le=1e-2,
-                             doc="Newton stops when the estimated remaining coordinate error is below this")
+    newton_tol: float = spec(1e-9, unit="-", gt=0.0, le=1e-2,
+                             doc="Newton stops when the estimated remaining correction (positions relative "
+                                 "to the element length, slopes absolute) is below this; the tension error "
+                                 "it allows is about EA times this")
     max_newton_iterations: int = spec(8, unit="-", ge=1, le=100, doc="iterations before the Jacobian is refreshed")
     jacobian_max_age: int = spec(100, unit="-", ge=1, doc="steps a factorised Jacobian may be reused")
     min_time_step: float = spec(1e-7, unit="s", gt=0.0, doc="a step that fails below this size is an error")

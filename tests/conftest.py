@@ -1,0 +1,35 @@
+"""Shared helpers for the test suite."""
+
+from __future__ import annotations
+
+import pytest
+
+
+def cable_scene(segments: list[dict], top: dict, bottom: dict | None = None, **sections) -> dict:
+    """A scene table (as parsed TOML) with the given cable and extra sections."""
+    table = {"cable": {"segments": segments, "top": top}}
+    if bottom is not None:
+        table["cable"]["bottom"] = bottom
+    table.update(sections)
+    return table
+
+
+def segment(length: float, elements: int, *, mu: float = 1.0, EA: float = 1e6, EI: float = 1e-3,
+            damping: float = 0.0, diameter: float = 0.01, **extra) -> dict:
+    """One cable segment table."""
+    seg = {"length": length, "elements": elements, "diameter": diameter, "mass_per_length": mu,
+           "EA": EA, "EI": EI, "damping": damping}
+    seg.update(extra)
+    return seg
+
+
+@pytest.fixture
+def make_sim():
+    """Build a Simulation from a scene table."""
+    from towcable_fmu.scene import scene_from_table
+    from towcable_fmu.simulation import Simulation
+
+    def _make(table: dict) -> Simulation:
+        return Simulation(scene_from_table(table))
+
+    return _make

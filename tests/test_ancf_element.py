@@ -1,0 +1,152 @@
+"""The ANCF element: shape functions, constant matrices, decoupled axial force."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from towcable_fmu.ancf import element
+from towcable_fmu.ancf.axial import axial_force, axial_strains, axial_tangent, slope_derivatives
+
+
+def test_shape_functions_interpolate_nodes_and_slopes():
+    L = 2.5
+    n = element.shape_functions(np.array([0.0, 1.0]), L)
+    dn = element.shape_derivatives(np.array([0.0, 1.0]), L)
+    np.testing.assert_allclose(n, [[1, 0, 0, 0], [0, 0, 1, 0]], atol=1e-15)
+    # slope functions carry the factor L: d r/dp at the nodes equals the nodal slopes
+    np.testing.assert_allclose(dn, [[0, 1, 0, 0], [0, 0, 0, 1]], atol=1e-15)
+
+
+def test_mass_matrix_equals_closed_form_w12():
+    L, mu = 3.0, 0.7
+    expected = mu * L / 420 * np.array([[156, 22 * L, 54, -13 * L],
+                                        [22 * L, 4 * L**2, 13 * L, -3 * L**2],
+                                        [54, 13 * L, 156, -22 * L],
+                                        [-13 * L, -3 * L**2, -22 * L, 4 * L**2]])
+    np.testing.assert_allclose(element.mass_matrix(L, mu), expected, rtol=1e-13)
+
+
+def test_bending_and_damping_matrices_closed_form():
+    L, ei, c = 1.7, 2.0, 0.3
+    kb = ei / L**3 * np.array([[12, 6 * L, -12, 6 * L], [6 * L, 4 * L**2, -6 * L, 2 * L**2],
+                               [-12, -6 * L, 12, -6 * L], [6 * L, 2 * L**2, -6 * L, 4 * L**2]])
+    cd = c / (30 * L) * np.array([[36, 3 * L, -36, 3 * L], [3 * L, 4 * L**2, -3 * L, -L**2],
+                                  [-36, -3 * L, 36, -3 * L], [3 * L, -L**2, -3 * L, 4 * L**2]])
+    np.testing.assert_allclose(element.bending_matrix(L, ei), kb, rtol=1e-12)
+    np.testing.assert_allclose(element.damping_matrix(L, c), cd, rtol=1e-12, atol=1e-15)
+
+
+def test_load_vector_is_consistent_nodal_load():
+    L = 4.0
+    np.testing.assert_allclose(element.load_vector(L), [L / 2, L**2 / 12, L / 2, -L**2 / 12], rtol=1e-14)
+
+
+def test_trapezoid_weights_integrate_length():
+    xi, w = element.trapezoid_points(10)
+    assert w.sum() == pytest.approx(1.0)
+    assert xi[0] == 0.0 and xi[-1] == 1.0
+
+
+class AxialElement:
+    """One element's axial force with the package's Gauss quadrature."""
+
+    def __init__(self, L: float, ea: float, tension_only: bool = False):
+        gx, self.gw = element.gauss_legendre(5)
+        self.d = np.zeros((5, 4))
+        slope_derivatives(element.shape_derivatives(gx, 1.0), L, self.d)
+        self.L, self.ea, self.tension_only = L, ea, tension_only
+        self.lam, self.u = np.zeros(5), np.zeros((5, 3))
+
+    def force(self, x):
+        f = np.zeros(12)
+        energy = axial_force(x, self.L, self.ea, self.tension_only, self.d, self.gw, self.lam, self.u, f)
+        return f, energy
+
+    def tangent(self, x):
+        k = np.zeros((12, 12))
+        axial_tangent(x, self.L, self.ea, self.tension_only, self.d, self.gw, self.lam, self.u, 1.0, k)
+        return k
+
+    def strain(self, x, xi):
+        dn = element.shape_derivatives(np.array([xi]), 1.0)
+        out = np.zeros(1)
+        axial_strains(x, self.L, self.d, self.gw, self.lam, self.u, dn, out)
+        return out[0]
+
+
+def _random_element(rng, L):
+    return np.array([0, 0, 0, 1, 0, 0, L, 0, 0, 1, 0, 0.0]) + 0.1 * rng.normal(size=12)
+
+
+@pytest.mark.parametrize("tension_only", [False, True])
+def test_axial_force_is_gradient_of_energy_and_tangent_is_its_jacobian(tension_only):
+    rng = np.random.default_rng(3)
+    el = AxialElement(2.0, 1e5, tension_only)
+    x = _random_element(rng, 2.0)
+    f, _ = el.force(x)
+    h = 1e-6
+    grad = np.array([(el.force(x + h * e)[1] - el.force(x - h * e)[1]) / (2 * h) for e in np.eye(12)])
+    np.testing.assert_allclose(f, grad, rtol=1e-6, atol=1e-6 * np.abs(f).max())
+    k = el.tangent(x)
+    kfd = np.array([(el.force(x + h * e)[0] - el.force(x - h * e)[0]) / (2 * h) for e in np.eye(12)]).T
+    np.testing.assert_allclose(k, kfd, rtol=1e-5, atol=1e-6 * np.abs(k).max())
+    np.testing.assert_allclose(k, k.T, atol=1e-9 * np.abs(k).max())
+
+
+def test_uniform_stretch_gives_green_strain_and_end_forces():
+    L, ea, lam = 2.0, 1e5, 1.01
+    el = AxialElement(L, ea)
+    x = np.array([0, 0, 0, lam, 0, 0, lam * L, 0, 0, lam, 0, 0])
+    f, energy = el.force(x)
+    eps = 0.5 * (lam**2 - 1)
+    assert el.strain(x, 0.3) == pytest.approx(eps, rel=1e-12)
+    # end forces: the work-conjugate force EA eps lambda, pulling the ends together
+    assert f[0] == pytest.approx(-ea * eps * lam, rel=1e-12)
+    assert f[6] == pytest.approx(ea * eps * lam, rel=1e-12)
+    assert energy == pytest.approx(0.5 * ea * eps**2 * L, rel=1e-12)
+
+
+def _arc_element(radius: float, angle: float) -> np.ndarray:
+    """Cubic element through the ends of a circular arc with unit end tangents."""
+    r1 = radius * np.array([np.sin(angle), 0.0, 1 - np.cos(angle)])
+    return np.concatenate([[0, 0, 0], [1, 0, 0], r1, [np.cos(angle), 0, np.sin(angle)]])
+
+
+def test_decoupling_bent_unstretched_element_has_no_axial_force():
+    """An element bent into an arc whose arc length equals its unstretched length, with
+    unit end slopes, carries no axial force with the decoupled strain W(42)-(47); the
+    coupled Green strain W(41) of the same shape is not zero."""
+    from scipy.optimize import brentq
+
+    L, angle = 1.0, 1.2
+    el = AxialElement(L, 1e6)
+
+    def arc_length(radius):
+        el.force(_arc_element(radius, angle))
+        return float(np.sum(el.gw * el.lam)) * L - L
+
+    x = _arc_element(brentq(arc_length, 0.5, 1.5, xtol=1e-14), angle)
+    f, energy = el.force(x)
+    for xi in (0.0, 0.3, 0.5, 1.0):
+        assert abs(el.strain(x, xi)) < 1e-12
+    assert np.abs(f).max() < 1e-6 and energy < 1e-12
+    dn = element.shape_derivatives(np.array(0.5), L)
+    rp = dn[0] * x[0:3] + dn[1] * x[3:6] + dn[2] * x[6:9] + dn[3] * x[9:12]
+    assert abs(0.5 * (rp @ rp - 1.0)) > 1e-3  # the Green strain of W(41) would be non-zero
+
+
+def test_gauss_arc_length_of_circular_element_converges():
+    """s = int |r_p| dp by 5 Gauss points equals the arc length of the cubic (fine trapezoid)."""
+    el = AxialElement(1.0, 1.0)
+    angle = 0.9
+    r1 = np.array([np.sin(angle), 0.0, 1 - np.cos(angle)]) / angle
+    x = np.concatenate([[0, 0, 0], [1, 0, 0], r1, [np.cos(angle), 0, np.sin(angle)]])
+    xi = np.linspace(0, 1, 20001)
+    dn = element.shape_derivatives(xi, 1.0)
+    rp = dn[:, [0]] * x[0:3] + dn[:, [1]] * x[3:6] + dn[:, [2]] * x[6:9] + dn[:, [3]] * x[9:12]
+    speed = np.linalg.norm(rp, axis=1)
+    exact = np.sum(0.5 * (speed[1:] + speed[:-1]) * np.diff(xi))
+    el.force(x)
+    s_gauss = float(np.sum(el.gw * el.lam))
+    assert s_gauss == pytest.approx(exact, rel=1e-7)

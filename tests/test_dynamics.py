@@ -1,0 +1,160 @@
+"""Dynamics against closed forms, conservation laws and an independent integrator."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from conftest import cable_scene, segment
+from scipy.optimize import brentq
+
+from towcable_fmu.errors import SceneError, SolverError
+from towcable_fmu.numerics.reference_ivp import integrate_reference
+
+G = 9.81
+
+
+def _zero_crossing_period(t: np.ndarray, y: np.ndarray) -> float:
+    """Mean period from upward zero crossings (linear interpolation)."""
+    y = y - y.mean()
+    idx = np.flatnonzero((y[:-1] < 0) & (y[1:] >= 0))
+    times = t[idx] - y[idx] * (t[idx + 1] - t[idx]) / (y[idx + 1] - y[idx])
+    assert times.size >= 3, "too few oscillations recorded"
+    return float(np.mean(np.diff(times)))
+
+
+@pytest.mark.parametrize("mode", [1, 2, 3])
+def test_taut_cable_transverse_frequencies(make_sim, mode):
+    """Free vibration of a taut cable: f_n = n / (2 L) sqrt(T / mu) (stretched length and
+    mass per stretched length), gravity off, no damping, no numerical damping."""
+    L0, stretch, mu, ea = 10.0, 1.01, 0.1, 1e5
+    span = L0 * stretch
+    table = cable_scene([segment(L0, 24, mu=mu, EA=ea, EI=1e-6)],
+                        top={"type": "pinned", "position": [0.0, 0.0, 0.0]},
+                        bottom={"type": "pinned", "position": [span, 0.0, 0.0]},
+                        environment={"gravity": 0.0}, solver={"time_step": 5e-4, "rho_inf": 1.0})
+    sim = make_sim(table)
+    sim.initialize()
+    tension = sim.outputs()["tension.top"]
+    assert tension == pytest.approx(ea * 0.5 * (stretch**2 - 1) * stretch, rel=1e-6)  # EA eps lambda
+    # release from the mode shape: y = A sin(n pi x / span), amplitude 1 mm
+    q = sim.state.q.copy().reshape(-1, 2, 3)
+    x = q[:, 0, 0]
+    k = mode * np.pi / span
+    amp = 1e-3
+    q[:, 0, 1] = amp * np.sin(k * x)
+    q[:, 1, 1] = stretch * amp * k * np.cos(k * x)
+    sim.set_coordinates(q.ravel())
+    probe = int(np.argmin(np.abs(x - span / (2 * mode))))  # an antinode
+    f_exact = mode / (2 * span) * np.sqrt(tension / (mu / stretch))
+    duration = 6.0 / f_exact
+    times, ys = [], []
+    for t_out in np.linspace(0, duration, 600)[1:]:
+        sim.advance(t_out)
+        times.append(t_out)
+        ys.append(sim.state.q[6 * probe + 1])
+    period = _zero_crossing_period(np.array(times), np.array(ys))
+    assert 1.0 / period == pytest.approx(f_exact, rel=2e-3)
+
+
+def test_hanging_mass_axial_frequency(make_sim):
+    """Axial oscillation of a mass on an elastic cable: the exact fixed-free bar with an
+    end mass, beta tan(beta) = mu L / m, omega = beta sqrt(EA/mu) / L (close to the
+    Rayleigh estimate sqrt(EA / (L (m + mu L / 3))))."""
+    L, mu, ea, m = 10.0, 0.1, 1e6, 10.0  # static strain 1e-4: the linear bar applies
+    table = cable_scene([segment(L, 10, mu=mu, EA=ea, EI=1e-4)],
+                        top={"type": "pinned", "position": [0.0, 0.0, 0.0]}, towbody={"mass": m},
+                        solver={"time_step": 2e-4, "rho_inf": 1.0})
+    sim = make_sim(table)
+    sim.initialize()
+    z_eq = sim.outputs()["towbody.z"]
+    # kick: a velocity profile growing linearly along the cable (close to the first mode)
+    v = np.zeros_like(sim.state.q).reshape(-1, 2, 3)
+    v[:, 0, 2] = -0.05 * sim.mesh.node_arc / L
+    sim.set_coordinates(sim.state.q, v.ravel())
+    res = sim.run(0.7, interval=4e-4)  # about ten periods
+    beta = brentq(lambda b: b * np.tan(b) - mu * L / m, 1e-6, np.pi / 2 - 1e-9)
+    omega_exact = beta * np.sqrt(ea / mu) / L
+    period = _zero_crossing_period(res["time"], res["towbody.z"] - z_eq)
+    assert 2 * np.pi / period == pytest.approx(omega_exact, rel=2e-3)
+    omega_rayleigh = np.sqrt(ea / (L * (m + mu * L / 3)))
+    assert omega_exact == pytest.approx(omega_rayleigh, rel=1e-3)
+
+
+def _pendulum(make_sim, damping: float, rho_inf: float):
+    table = cable_scene([segment(5.0, 6, mu=0.5, EA=2e5, EI=1e-2, damping=damping)],
+                        top={"type": "pinned", "position": [0.0, 0.0, 0.0]}, towbody={"mass": 2.0},
+                        solver={"time_step": 2e-3, "rho_inf": rho_inf})
+    table["cable"]["initial"] = {"direction": [np.sin(0.5), 0.0, -np.cos(0.5)]}
+    sim = make_sim(table)
+    sim.initialize(statics=False)  # released from a straight, unstretched cable 29 deg off vertical
+    return sim
+
+
+def test_energy_is_conserved_without_damping(make_sim):
+    sim = _pendulum(make_sim, damping=0.0, rho_inf=1.0)
+    res = sim.run(45.0, interval=0.01)  # about ten pendulum periods
+    energy = res["energy.kinetic"] + res["energy.strain"] + res["energy.gravity"]
+    swing = np.ptp(res["energy.gravity"])  # energy exchanged per swing
+    assert swing > 10.0
+    assert np.abs(energy - energy[0]).max() < 0.01 * swing
+
+
+def test_energy_decreases_with_damping(make_sim):
+    sim = _pendulum(make_sim, damping=5.0, rho_inf=0.8)
+    res = sim.run(10.0, interval=0.01)
+    energy = res["energy.kinetic"] + res["energy.strain"] + res["energy.gravity"]
+    assert np.all(np.diff(energy) <= 1e-9 * np.abs(energy).max())
+    assert energy[-1] < energy[0] - 1.0
+
+
+def test_fast_integrator_agrees_with_scipy_radau(make_sim):
+    """Same scene, same equations: generalised-alpha (small step) against solve_ivp(Radau)."""
+    table = cable_scene([segment(6.0, 4, mu=0.3, EA=5e4, EI=0.05, damping=0.5)],
+                        top={"type": "pinned", "frame": "ship", "position": [0.0, 0.0, 0.0]},
+                        towbody={"mass": 1.0}, solver={"time_step": 1e-3},
+                        motion={"type": "regular", "ramp": 0.5, "heave": {"amplitude": 0.3, "period": 1.5},
+                                "surge": {"amplitude": 0.5, "period": 2.0}})
+    sim = make_sim(table)
+    sim.initialize()
+    t_eval = np.linspace(0.25, 2.0, 8)
+    ref = integrate_reference(sim, 2.0, t_eval, rtol=1e-9, atol=1e-11)
+    for k, t in enumerate(t_eval):
+        sim.advance(t)
+        np.testing.assert_allclose(sim.state.q, ref[k], atol=2e-5)
+
+
+def test_state_round_trip_continues_bit_identically(make_sim):
+    table = cable_scene([segment(20.0, 8, mu=0.5, EA=1e5, EI=0.1, damping=1.0)],
+                        top={"type": "pinned", "frame": "ship", "position": [0.0, 0.0, 0.0]},
+                        towbody={"mass": 5.0},
+                        motion={"type": "regular", "heave": {"amplitude": 0.5, "period": 3.0}})
+    sim = make_sim(table)
+    sim.initialize()
+    sim.run(1.0)
+    saved = json.loads(json.dumps(sim.get_state()))
+    first = [sim.advance(1.0 + 0.1 * k) for k in range(1, 11)]
+    sim.set_state(saved)
+    second = [sim.advance(1.0 + 0.1 * k) for k in range(1, 11)]
+    assert first == second
+
+
+def test_failed_step_leaves_state_unchanged(make_sim):
+    table = cable_scene([segment(20.0, 8, mu=0.5, EA=1e5, EI=0.1)],
+                        top={"type": "pinned", "frame": "ship", "position": [0.0, 0.0, 0.0]},
+                        towbody={"mass": 5.0}, solver={"max_newton_iterations": 1, "min_time_step": 0.009})
+    sim = make_sim(table)
+    sim.initialize()
+    before = sim.get_state()
+    ship = np.zeros((3, 6))
+    ship[2, 2] = 1e6  # an absurd vertical acceleration of the support
+    with pytest.raises(SolverError):
+        sim.step(0.01, ship)
+    assert sim.get_state() == before
+    with pytest.raises(SceneError, match="ship"):
+        ship[0, 0] = np.nan
+        sim.step(0.01, ship)
+    with pytest.raises(SceneError, match="dt"):
+        sim.step(-0.01, np.zeros((3, 6)))
+    assert sim.get_state() == before

@@ -1,0 +1,177 @@
+"""Command line: ``towcable scenes | static | run``.
+
+Output names and units follow the variable contract (``contract.toml``); every number
+printed is in SI units.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import sys
+import time
+from pathlib import Path
+from typing import Sequence
+
+from . import contract
+from .errors import TowcableError
+from .scene import builtin_scene_names, load_scene, parse_override
+
+
+class Progress:
+    """Prints progress of a long run to stderr, at most every ``every`` seconds of wall time.
+
+    Silent for runs that finish within ``every`` seconds.
+    """
+
+    def __init__(self, every: float = 2.0, stream=sys.stderr) -> None:
+        self.start = time.perf_counter()
+        self.last = self.start
+        self.every = every
+        self.stream = stream
+        self.t_start: float | None = None
+
+    def __call__(self, t: float, t_end: float) -> None:
+        now = time.perf_counter()
+        if self.t_start is None:
+            self.t_start = t
+        if now - self.last < self.every and t < t_end:
+            return
+        if now - self.start < self.every:
+            return
+        self.last = now
+        elapsed = now - self.start
+        done = t - self.t_start
+        total = t_end - self.t_start
+        rate = done / elapsed if elapsed > 0 else float("nan")
+        eta = (total - done) / rate if rate > 0 else float("nan")
+        self.stream.write(f"\r  t = {t:9.2f} / {t_end:.2f} s  ({100 * done / total:5.1f} %)  "
+                          f"{rate:7.1f} x real time  ETA {eta:6.1f} s")
+        if t >= t_end:
+            self.stream.write("\n")
+        self.stream.flush()
+
+
+def _overrides(values: Sequence[str] | None) -> list[tuple[str, object]]:
+    return [parse_override(v) for v in values or []]
+
+
+def _simulation(args: argparse.Namespace):
+    from .simulation import Simulation
+
+    return Simulation(load_scene(args.scene, _overrides(args.set)))
+
+
+def cmd_scenes(args: argparse.Namespace) -> int:
+    """List the built-in scenes with their titles."""
+    for name in builtin_scene_names():
+        print(f"{name:20s} {load_scene(name).title}")
+    return 0
+
+
+def cmd_static(args: argparse.Namespace) -> int:
+    """Solve the statics and print the equilibrium summary."""
+    sim = _simulation(args)
+    start = time.perf_counter()
+    out = sim.initialize(statics=True)
+    summary = {k: v for k, v in out.items() if not k.startswith(("energy.", "time"))}
+    summary.update(sim.statistics())
+    summary["solver.wall_time"] = time.perf_counter() - start
+    for key in [k for k in summary if k.startswith("solver.") and k not in (
+            "solver.statics_iterations", "solver.statics_residual", "solver.statics_wall_time",
+            "solver.wall_time")]:
+        del summary[key]
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        print(f"statics of '{args.scene}'")
+        for k, v in summary.items():
+            print(f"  {k:28s} {v:14.6g} {contract.unit_of(k)}")
+    return 0
+
+
+def write_csv(path: Path, series: dict) -> None:
+    """Write output series as CSV; the header row holds the contract names."""
+    names = list(series)
+    n = len(series[names[0]])
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(names)
+        for i in range(n):
+            writer.writerow([f"{float(series[k][i]):.10g}" for k in names])
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    """Run a scene in time and write CSV (and optionally a plot)."""
+    sim = _simulation(args)
+    progress = None if args.quiet else Progress()
+    start = time.perf_counter()
+    series = sim.run(args.duration, interval=args.interval, progress=progress)
+    wall = time.perf_counter() - start
+    output = Path(args.output)
+    output.parent.mkdir(parents=True, exist_ok=True)
+    write_csv(output, series)
+    if args.plot:
+        from .plots import plot_run
+
+        plot_run(series, Path(args.plot), title=f"{args.scene}: {sim.scene.title}")
+    if not args.quiet:
+        stats = sim.statistics()
+        print(f"wrote {output} ({len(series['time'])} samples)"
+              + (f" and {args.plot}" if args.plot else ""), file=sys.stderr)
+        print(f"{args.duration:g} s simulated in {wall:.2f} s wall time "
+              f"({args.duration / wall:.1f} x real time), {stats['solver.steps']} steps", file=sys.stderr)
+    return 0
+
+
+def _positive(text: str) -> float:
+    value = float(text)
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text}")
+    return value
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser (exposed for documentation and tests)."""
+    parser = argparse.ArgumentParser(prog="towcable", description="Towed-cable simulator (SI units).")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    p = sub.add_parser("scenes", help="list the built-in scenes")
+    p.set_defaults(func=cmd_scenes)
+
+    def scene_args(p: argparse.ArgumentParser) -> None:
+        p.add_argument("scene", help="built-in scene name or path to a scene TOML file")
+        p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                       help="override a scene value by its dotted key, e.g. solver.time_step=0.005 "
+                            "or cable.segments[0].elements=20 (repeatable)")
+
+    p = sub.add_parser("static", help="solve the static equilibrium and print a summary")
+    scene_args(p)
+    p.add_argument("--json", action="store_true", help="print one flat JSON object keyed by output names")
+    p.set_defaults(func=cmd_static)
+
+    p = sub.add_parser("run", help="simulate in time and write CSV time series")
+    scene_args(p)
+    p.add_argument("--duration", type=_positive, required=True, help="simulated time [s]")
+    p.add_argument("--output", required=True, help="CSV file to write (columns named as the outputs)")
+    p.add_argument("--interval", type=_positive, default=None, help="output interval [s] (default: scene)")
+    p.add_argument("--plot", default=None, help="PNG file with time-series plots")
+    p.add_argument("--quiet", action="store_true", help="no progress or summary on stderr")
+    p.set_defaults(func=cmd_run)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``towcable`` console script."""
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except TowcableError as exc:
+        print(f"towcable: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
