@@ -1,0 +1,1 @@
+"""Independent reference solutions for the towcable tests (numpy/scipy only; see README.md)."""
