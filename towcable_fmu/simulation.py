@@ -19,6 +19,8 @@ from .ancf import element, initial_shape, measures
 from .ancf.mesh import Mesh, build_mesh, build_model
 from .ancf.system import CableModel, residual
 from .errors import SceneError, SolverError
+from .hydro.towbody import body_force
+from .hydro.turbulence import TurbulenceSeries
 from .numerics import genalpha
 from .numerics.statics import StaticsResult, solve_statics
 from .scene import load_scene
@@ -71,6 +73,7 @@ class Simulation:
         self.state = genalpha.new_state(6 * self.mesh.n_nodes)
         self.workspace = genalpha.new_workspace(self.model)
         self.statics: StaticsResult | None = None
+        self.turbulence: TurbulenceSeries | None = None
         self._setpoint = (0.0, 0.0)
         self._initialized = False
 
@@ -128,15 +131,30 @@ class Simulation:
         run_statics = self.scene.statics.enabled if statics is None else statics
         if run_statics:
             cfg = self.scene.statics
-            self.statics = solve_statics(self.model, st.q, ship0, st.phi, t0, tolerance=cfg.tolerance,
+            steady = self.model._replace(water=self.model.water._replace(turb=np.zeros((0, 3))))
+            self.statics = solve_statics(steady, st.q, ship0, st.phi, t0, tolerance=cfg.tolerance,
                                          max_iterations=cfg.max_iterations)
             st.q[:] = self.statics.q
+        self._start_turbulence(t0)
         if not genalpha.initial_acceleration(self.model, st, self.workspace, t0,
                                              *drive_poly.taylor_drive(t0, ship0, self._setpoint)):
             raise SolverError("the initial state has no finite acceleration (singular mass matrix or "
                               "non-finite forces)")
         self._initialized = True
         return self.outputs()
+
+    def _start_turbulence(self, t0: float) -> None:
+        """(Re)start the turbulence series at t0 (same seed: same series)."""
+        cfg = self.scene.water.turbulence if self.scene.water is not None else None
+        self.turbulence = None if cfg is None else TurbulenceSeries(cfg, t0)
+        self._cover(t0)
+
+    def _cover(self, t_end: float) -> None:
+        """Make the turbulence table reach t_end (the compiled kernels read it)."""
+        if self.turbulence is not None and self.turbulence.extend_to(t_end):
+            tb = self.turbulence
+            self.model = self.model._replace(water=self.model.water._replace(
+                turb=tb.samples, turb_t0=tb.t0, turb_dt=tb.dt))
 
     def set_coordinates(self, q: np.ndarray, v: np.ndarray | None = None) -> dict[str, float]:
         """Replace the cable configuration at the current time (e.g. to release it from a
@@ -205,6 +223,7 @@ class Simulation:
             raise SolverError("call initialize() before stepping the simulation")
 
     def _advance_with(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> dict[str, float]:
+        self._cover(t_end)
         saved = self._snapshot()
         status = genalpha.advance(self.model, self.options, self.state, self.workspace, t_end, *drive)
         if status != genalpha.OK:
@@ -338,7 +357,11 @@ class Simulation:
         if self.scene.towbody is not None:
             last = st.q.size - 6
             # force of the cable on the body: m a minus the body's own external forces
-            body_external = np.array([0.0, 0.0, -self.scene.towbody.mass * self.scene.environment.gravity])
+            hydro = np.zeros(3)
+            if m.body.enabled:
+                body_force(m.water, m.body, st.q[last:last + 3], st.v[last:last + 3], st.a[last:last + 3],
+                           self.time, hydro)
+            body_external = hydro + np.array([0.0, 0.0, -self.scene.towbody.mass * self.scene.environment.gravity])
             force = m.node_mass[-1] * st.a[last:last + 3] - body_external
             out["tension.towbody"] = float(np.linalg.norm(force))
             for k, c in enumerate("xyz"):
@@ -376,6 +399,7 @@ class Simulation:
         return {"fields": {name: np.asarray(getattr(self.state, name)).tolist()
                            for name in genalpha.IntegratorState._fields},
                 "setpoint": list(self._setpoint), "initialized": self._initialized,
+                "turbulence_t0": None if self.turbulence is None else self.turbulence.t0,
                 "n_coordinates": int(self.state.q.size)}
 
     def set_state(self, data: Mapping[str, Any]) -> None:
@@ -392,15 +416,12 @@ class Simulation:
         fields = data["fields"]
         arrays = genalpha.IntegratorState(*(np.asarray(fields[name], dtype=getattr(self.state, name).dtype)
                                             for name in genalpha.IntegratorState._fields))
+        if data.get("turbulence_t0") is not None and (self.turbulence is None
+                                                       or self.turbulence.t0 != data["turbulence_t0"]):
+            self._start_turbulence(float(data["turbulence_t0"]))
+        self._cover(float(arrays.clock[0]))
         self._restore((arrays, (float(data["setpoint"][0]), float(data["setpoint"][1]))))
         self._initialized = bool(data["initialized"])
-
-    def copy(self) -> "Simulation":
-        """An independent copy (same scene and state)."""
-        other = copy.copy(self)
-        other.state = genalpha.IntegratorState(*(np.copy(x) for x in self.state))
-        other.workspace = genalpha.Workspace(*(np.copy(x) for x in self.workspace))
-        return other
 
     # ------------------------------------------------------------------- run
     def run(self, duration: float, interval: float | None = None,

@@ -290,7 +290,9 @@ def cable_drag_per_length(
         Drag amplification factor [-] (total drag = ``G`` x steady drag).
     cd : float or None, optional
         Constant drag coefficient; ``None`` uses :func:`drag_coefficient` of
-        the normal Reynolds number.
+        the normal Reynolds number for the normal term (W(63)) and of the full
+        relative speed for the tangential term (the normal Reynolds number
+        vanishes for flow along the cable, where f_t stays finite).
 
     Returns
     -------
@@ -312,13 +314,16 @@ def cable_drag_per_length(
     vt_mag = float(np.linalg.norm(vt))
     eta = float(np.arccos(min(abs(float(v @ u)) / vmag, 1.0)))
     fn, ft = LOADING_FUNCTIONS[loading] if isinstance(loading, str) else loading
-    c = float(drag_coefficient(rho * d * vn_mag / mu)) if cd is None else float(cd)
-    q = G * 0.5 * rho * d * c * vmag * vmag
+    # normal term: C_D of the normal Reynolds number, W(63); tangential term: C_D of the
+    # Reynolds number of the full relative speed (the normal one vanishes for axial flow)
+    c_n = float(drag_coefficient(rho * d * vn_mag / mu)) if cd is None else float(cd)
+    c_t = float(drag_coefficient(rho * d * vmag / mu)) if cd is None else float(cd)
+    q = G * 0.5 * rho * d * vmag * vmag
     tiny = 1e-12 * vmag
     if vn_mag > tiny:
-        out += q * float(fn(eta)) * vn / vn_mag
+        out += q * c_n * float(fn(eta)) * vn / vn_mag
     if vt_mag > tiny:
-        out += q * float(ft(eta)) * vt / vt_mag
+        out += q * c_t * float(ft(eta)) * vt / vt_mag
     return out
 
 

@@ -11,7 +11,10 @@ import dataclasses
 
 import numpy as np
 
-from ..errors import SceneError
+from ..hydro.cable import CableHydro
+from ..hydro.loading import LOADINGS
+from ..hydro.towbody import BodyHydro, no_body
+from ..hydro.water import CURRENT_KINDS, WaterModel, dry_water
 from ..scene.model import End, Scene
 from . import element
 from .prescribed import FIXED_POINT, FIXED_SLOPE, SHIP_POINT, SHIP_SLOPE
@@ -85,13 +88,7 @@ def _band_width(free_idx: np.ndarray, n_elements: int) -> int:
 
 
 def build_model(scene: Scene, mesh: Mesh) -> CableModel:
-    """Compile-ready arrays for ``scene`` meshed as ``mesh``.
-
-    Raises
-    ------
-    SceneError
-        If the end conditions leave the system without any support.
-    """
+    """Compile-ready arrays for ``scene`` meshed as ``mesh``."""
     segs = scene.cable.segments
     ne, nn = mesh.n_elements, mesh.n_nodes
     nf = 6 * nn
@@ -122,13 +119,12 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
     free_dofs = np.flatnonzero(~prescribed)
     free_idx = np.full(nf, -1, dtype=np.int64)
     free_idx[free_dofs] = np.arange(free_dofs.size)
-    if not any(kind in (FIXED_POINT, SHIP_POINT) for _, kind, _ in att):
-        raise SceneError("cable.top.type", scene.cable.top.type, "an end with a prescribed position")
     width = _band_width(free_idx, ne)
     node_length = np.minimum(np.concatenate([el_len[:1], el_len]), np.concatenate([el_len, el_len[-1:]]))
     scale = np.where(free_dofs % 6 < 3, 1.0 / node_length[free_dofs // 6], 1.0)
 
     gx, gw = element.gauss_legendre(AXIAL_GAUSS_POINTS)
+    water = build_water(scene)
     return CableModel(
         el_len=el_len, el_ea=el_ea, el_tension_only=el_tension_only, el_mass=el_mass, el_bend=el_bend,
         el_damp=el_damp, f_const=f_const, node_mass=node_mass,
@@ -138,4 +134,50 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
         att_kind=np.array([a[1] for a in att], dtype=np.int64),
         att_vec=np.array([a[2] for a in att], dtype=float).reshape(-1, 3),
         att_radius=np.zeros(len(att)),
+        water=water, hydro=build_cable_hydro(scene, mesh, water.enabled), body=build_body(scene, 6 * (nn - 1)),
     )
+
+
+def build_water(scene: Scene) -> WaterModel:
+    """Water data for the kernels (no turbulence table yet: the simulation attaches it)."""
+    w = scene.water
+    if w is None:
+        return dry_water()
+    return WaterModel(True, w.density, w.viscosity, w.surface_z, scene.environment.gravity,
+                      CURRENT_KINDS[w.current.type], np.array(w.current.velocity, dtype=float),
+                      np.array(w.current.gradient, dtype=float), 0.0, 1.0, np.zeros((0, 3)))
+
+
+def build_cable_hydro(scene: Scene, mesh: Mesh, wet: bool) -> CableHydro:
+    """Per-element hydrodynamic properties (all elements off in a dry scene)."""
+    props = [scene.cable.segments[i] for i in mesh.segment_of_element]
+    d = np.array([p.diameter for p in props])
+    return CableHydro(
+        el_on=np.full(mesh.n_elements, wet),
+        el_kind=np.array([LOADINGS[p.loading] for p in props], dtype=np.int64),
+        el_d=d, el_area=np.pi * d**2 / 4.0,
+        el_cd=np.array([p.drag_coefficient or 0.0 for p in props]),
+        el_g=np.array([p.drag_amplification for p in props]),
+        el_cm=np.array([p.added_mass_coefficient for p in props]),
+        el_npts=np.array([p.integration_points for p in props], dtype=np.int64),
+        calls=np.zeros(1, dtype=np.int64),
+    )
+
+
+def build_body(scene: Scene, index: int) -> BodyHydro:
+    """Towed-body data (disabled without a body or without water)."""
+    body, w = scene.towbody, scene.water
+    if body is None or w is None:
+        return no_body()
+    volume = scene.towbody_volume()
+    cm = np.array(body.added_mass_coefficient, dtype=float)
+    cda = np.zeros(3)
+    for part in body.parts:
+        cda += np.array(part.area) * np.array(part.drag_coefficient)
+    lift_k, lift_dir, lift_axis = 0.0, np.zeros(3), np.array([1.0, 0.0, 0.0])
+    if body.lift is not None:
+        lift_k = 0.5 * w.density * body.lift.area * body.lift.coefficient
+        lift_dir = np.array(body.lift.direction, dtype=float) / np.linalg.norm(body.lift.direction)
+        lift_axis = np.array(body.lift.axis, dtype=float) / np.linalg.norm(body.lift.axis)
+    return BodyHydro(True, index, volume, w.density * volume * cm, w.density * volume * (cm + 1.0), cda,
+                     lift_k, lift_dir, lift_axis, np.zeros(1, dtype=np.int64))

@@ -20,6 +20,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from ..hydro import cable as cable_hydro
+from ..hydro import towbody as body_hydro
+from ..hydro.cable import CableHydro
+from ..hydro.towbody import BodyHydro
+from ..hydro.water import WaterModel
 from .axial import axial_force, axial_tangent, slope_derivatives
 
 
@@ -48,6 +53,9 @@ class CableModel(NamedTuple):
     att_kind: np.ndarray        #: (na,) attachment kind (see prescribed.py)
     att_vec: np.ndarray         #: (na, 3) attachment vector
     att_radius: np.ndarray      #: (na,) winch radius for winch attachments [m]
+    water: WaterModel           #: water, current and turbulence (``enabled`` False: dry scene)
+    hydro: CableHydro           #: per-element hydrodynamic properties
+    body: BodyHydro             #: towed body in water
 
 
 @njit(cache=True)
@@ -109,6 +117,10 @@ def residual(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: 
     for n in range(nn):
         for c in range(3):
             out[6 * n + c] += model.node_mass[n, c] * a[6 * n + c]
+    if model.water.enabled:
+        cable_hydro.add_residual(model.water, model.hydro, model.el_len, q, v, a, t, out)
+        if model.body.enabled:
+            body_hydro.add_residual(model.water, model.body, q, v, a, t, out)
     return energy
 
 
@@ -154,6 +166,7 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
     lam = np.empty(ng)
     u = np.empty((ng, 3))
     ke = np.empty((12, 12))
+    wet = model.water.enabled
     for e in range(ne):
         base = 6 * e
         ke[:, :] = 0.0
@@ -166,6 +179,8 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
         slope_derivatives(model.gauss_dn, length, d)
         axial_tangent(q[base:base + 12], length, model.el_ea[e], model.el_tension_only[e],
                       d, model.gauss_w, lam, u, cq, ke)
+        if wet:
+            cable_hydro.add_jacobian(model.water, model.hydro, model.el_len, q, v, t, e, ca, cv, cq, ke)
         _scatter(model, base, ke, ab)
     off = model.kl + model.ku
     nn = model.node_mass.shape[0]
@@ -174,3 +189,13 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
             fi = model.free_idx[6 * n + c]
             if fi >= 0:
                 ab[off, fi] += ca * model.node_mass[n, c]
+    if wet and model.body.enabled:
+        block = np.zeros((3, 3))
+        if body_hydro.add_jacobian(model.water, model.body, q, v, t, ca, cv, block):
+            i0 = model.body.index
+            for k in range(3):
+                fk = model.free_idx[i0 + k]
+                for m in range(3):
+                    fm = model.free_idx[i0 + m]
+                    if fk >= 0 and fm >= 0:
+                        ab[off + fk - fm, fm] += block[k, m]

@@ -37,6 +37,15 @@ class Segment:
                                    doc="N_I: equally spaced trapezoidal points per element for distributed loads")
     compression: bool = spec(True, doc="true: the axial stiffness also acts in compression (the reference's "
                                        "model); false: tension-only material, a slack cable carries no load")
+    loading: str = spec("bare", choices=("bare", "faired"),
+                        doc="drag loading functions: bare cable W(60) or ribbon-faired W(145)")
+    drag_coefficient: float | None = spec(None, unit="-", gt=0.0,
+                                          doc="constant common drag coefficient C_D; default: C_D(Re) of W(61)-(63)")
+    drag_amplification: float = spec(1.0, unit="-", ge=0.0, le=10.0,
+                                     doc="G of W(64): the mean (steady) drag is G times the steady drag "
+                                         "(1: no amplification; DESIGN.md)")
+    added_mass_coefficient: float = spec(1.0, unit="-", ge=0.0, le=10.0,
+                                         doc="C_m: added mass acts normal to the cable only, W(66)-(75)")
     name: str = spec("", doc="label used in plots and messages")
 
 
@@ -50,7 +59,8 @@ class End:
     frame: str = spec("inertial", choices=("inertial", "ship"),
                       doc="frame of 'position': fixed in the inertial frame or moving with the ship")
     position: tuple[float, ...] | None = spec(None, unit="m", length=3,
-                                              doc="attachment point (inertial or ship body coordinates)")
+                                              doc="attachment point (inertial or ship body coordinates); for a "
+                                                  "free top end: where it starts (inertial frame)")
     slope: tuple[float, ...] | None = spec(None, unit="-", length=3,
                                            doc="clamped ends: cable direction leaving the end, pointing into "
                                                "the cable (normalised)")
@@ -64,8 +74,6 @@ class End:
                 raise SceneError(f"{key}.slope", None, "a list of 3 numbers (required for type = 'clamped')")
             if math.hypot(*self.slope) == 0.0:
                 raise SceneError(f"{key}.slope", list(self.slope), "a non-zero direction")
-        if self.type == "free" and self.position is not None:
-            raise SceneError(f"{key}.position", list(self.position), "no position for a free end")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -93,10 +101,12 @@ class Cable:
 
     def validate(self, key: str) -> None:
         """Cross-field checks."""
-        if self.top.type == "free" and self.bottom.type == "free":
-            raise SceneError(f"{key}.top.type", "free", "'pinned' or 'clamped' when the bottom end is free too")
-        if self.top.type == "free":
-            raise SceneError(f"{key}.top.type", "free", "'pinned' or 'clamped' (the top end carries the cable)")
+        if self.bottom.type == "free" and self.bottom.position is not None:
+            raise SceneError(f"{key}.bottom.position", list(self.bottom.position),
+                             "no position for a free bottom end (the initial shape places it)")
+        if self.top.type == "free" and self.bottom.type != "free":
+            raise SceneError(f"{key}.top.type", "free", "'pinned' or 'clamped' (the cable hangs from its top end; "
+                                                        "to hold only the lower end, swap the ends)")
         if self.initial.shape == "sag" and self.bottom.type == "free":
             raise SceneError(f"{key}.initial.shape", "sag", "'straight' or 'auto' when the bottom end is free")
 
@@ -112,11 +122,99 @@ class Cable:
 
 
 @dataclasses.dataclass(frozen=True)
+class Current:
+    """Mean flow of the water."""
+
+    type: str = spec("none", choices=("none", "uniform", "linear"),
+                     doc="none: still water; uniform: 'velocity' everywhere; linear: 'velocity' at the "
+                         "surface changing by 'gradient' per metre of height (the flume profile W(140))")
+    velocity: tuple[float, ...] = spec([0.0, 0.0, 0.0], unit="m/s", length=3,
+                                       doc="flow velocity (at the surface for 'linear')")
+    gradient: tuple[float, ...] = spec([0.0, 0.0, 0.0], unit="1/s", length=3,
+                                       doc="'linear': change of the flow velocity per metre of height z")
+
+    def validate(self, key: str) -> None:
+        """Cross-field checks."""
+        if self.type != "linear" and any(self.gradient):
+            raise SceneError(f"{key}.gradient", list(self.gradient), "zeros unless type = 'linear'")
+
+
+@dataclasses.dataclass(frozen=True)
+class Turbulence:
+    """Turbulent fluctuation of the flow: white noise through a Chebyshev type II low-pass
+    filter, scaled to the given standard deviation per axis (section 4.3), uniform in space."""
+
+    std: tuple[float, ...] = spec(unit="m/s", length=3, ge=0.0, doc="standard deviation per axis")
+    cutoff: float = spec(2.0, unit="Hz", gt=0.0, doc="stop-band edge of the low-pass filter")
+    order: int = spec(4, unit="-", ge=1, le=12, doc="filter order")
+    attenuation: float = spec(80.0, unit="dB", gt=0.0, doc="stop-band attenuation")
+    sample_rate: float = spec(100.0, unit="Hz", gt=0.0, doc="rate of the generated series (interpolated in between)")
+    seed: int = spec(0, unit="-", ge=0, doc="random seed: the same seed gives the same series")
+
+    def validate(self, key: str) -> None:
+        """Cross-field checks."""
+        if not self.cutoff < 0.5 * self.sample_rate:
+            raise SceneError(f"{key}.cutoff", self.cutoff, f"< sample_rate / 2 = {0.5 * self.sample_rate:g} Hz")
+
+
+@dataclasses.dataclass(frozen=True)
+class Water:
+    """The water: properties, free surface, current."""
+
+    density: float = spec(1025.0, unit="kg/m^3", gt=0.0, doc="density rho_f")
+    viscosity: float = spec(1.2e-3, unit="Pa s", gt=0.0, doc="dynamic viscosity mu (for the Reynolds number)")
+    surface_z: float = spec(0.0, unit="m", doc="height z of the (flat) free surface; below it is water")
+    current: Current = spec(Current(), doc="mean flow")
+    turbulence: Turbulence | None = spec(None, doc="turbulent fluctuation of the flow (absent: none)")
+
+
+@dataclasses.dataclass(frozen=True)
+class BodyPart:
+    """One part of a towed body's drag: projected areas and drag coefficients per axis."""
+
+    area: tuple[float, ...] = spec(unit="m^2", length=3, ge=0.0,
+                                   doc="areas projected on the planes normal to x, y, z")
+    drag_coefficient: tuple[float, ...] = spec(unit="-", length=3, ge=0.0, doc="drag coefficient per axis")
+    name: str = spec("", doc="label")
+
+
+@dataclasses.dataclass(frozen=True)
+class Lift:
+    """A lift force of constant direction (a hydrofoil of fixed attitude, section 5.2):
+    magnitude 1/2 rho A C_L (V_rel . axis)^2 along 'direction'."""
+
+    area: float = spec(unit="m^2", gt=0.0, doc="planform area A")
+    coefficient: float = spec(unit="-", ge=0.0, doc="lift coefficient C_L (magnitude)")
+    direction: tuple[float, ...] = spec([0.0, 0.0, -1.0], unit="-", length=3, doc="direction of the lift force")
+    axis: tuple[float, ...] = spec([1.0, 0.0, 0.0], unit="-", length=3,
+                                   doc="flow direction that makes lift (the foil's chord, fixed in space)")
+
+    def validate(self, key: str) -> None:
+        """Cross-field checks."""
+        for name in ("direction", "axis"):
+            if not any(getattr(self, name)):
+                raise SceneError(f"{key}.{name}", list(getattr(self, name)), "a non-zero direction")
+
+
+@dataclasses.dataclass(frozen=True)
 class TowBody:
     """A lumped towed body at the bottom end of the cable, W(85)-(92)."""
 
     mass: float = spec(unit="kg", gt=0.0, doc="mass m_b")
+    volume: float | None = spec(None, unit="m^3", ge=0.0, doc="displaced volume V (or give 'net_weight')")
+    net_weight: float | None = spec(None, unit="N",
+                                    doc="weight minus buoyancy in water; sets the volume to "
+                                        "(m_b g - net_weight) / (rho_f g)")
+    added_mass_coefficient: tuple[float, ...] = spec([0.0, 0.0, 0.0], unit="-", length=3, ge=0.0,
+                                                     doc="C_m,b per axis: added mass rho_f V C_m,b, W(89)")
+    parts: tuple[BodyPart, ...] = spec([], doc="drag parts; the drag per axis is the sum of their C_D A, W(87)")
+    lift: Lift | None = spec(None, doc="constant-direction lift")
     name: str = spec("towbody", doc="label")
+
+    def validate(self, key: str) -> None:
+        """Cross-field checks."""
+        if self.volume is not None and self.net_weight is not None:
+            raise SceneError(f"{key}.net_weight", self.net_weight, "absent when 'volume' is given")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -164,6 +262,7 @@ class Scene:
     title: str = spec("", doc="one-line title")
     description: str = spec("", doc="what the scene is and where its numbers come from")
     environment: Environment = spec(Environment(), doc="gravity")
+    water: Water | None = spec(None, doc="water (absent: the scene is in air, no hydrodynamics)")
     towbody: TowBody | None = spec(None, doc="lumped towed body at the bottom end (bottom must be free)")
     motion: dict | None = spec(None, doc="ship motion (see ship_motion/README.md); none: the ship is still")
     solver: SolverSettings = spec(SolverSettings(), doc="time integration")
@@ -174,5 +273,35 @@ class Scene:
 
     def validate(self, key: str) -> None:
         """Cross-section checks."""
+        if self.free_floating and self.statics.enabled:
+            raise SceneError("statics.enabled", True, "false when both cable ends are free (a falling or "
+                                                      "drifting cable has no static equilibrium)")
         if self.towbody is not None and self.cable.bottom.type != "free":
             raise SceneError("cable.bottom.type", self.cable.bottom.type, "'free' when a [towbody] is attached")
+        body = self.towbody
+        if body is not None and self.water is None and (body.parts or body.lift or body.net_weight is not None):
+            raise SceneError("towbody", body.name, "no hydrodynamic properties (parts, lift, net_weight) "
+                                                   "without a [water] section")
+        if body is not None and body.net_weight is not None and self.water is not None:
+            if self.environment.gravity == 0.0:
+                raise SceneError("towbody.net_weight", body.net_weight, "absent when gravity is 0 (give 'volume')")
+            weight = body.mass * self.environment.gravity
+            if not 0.0 <= weight - body.net_weight:
+                raise SceneError("towbody.net_weight", body.net_weight, f"<= the weight m_b g = {weight:g} N")
+
+    @property
+    def free_floating(self) -> bool:
+        """True when no end is held: the cable and body move freely (no static equilibrium)."""
+        return self.cable.top.type == "free" and self.cable.bottom.type == "free"
+
+    def towbody_volume(self) -> float:
+        """Displaced volume of the towed body [m^3] (0 without a body or without water)."""
+        body = self.towbody
+        if body is None or self.water is None:
+            return 0.0
+        if body.volume is not None:
+            return body.volume
+        if body.net_weight is not None:
+            g = self.environment.gravity
+            return (body.mass * g - body.net_weight) / (self.water.density * g)
+        return 0.0

@@ -1,0 +1,330 @@
+"""Hydrodynamics: loading functions, steady towing, buoyancy, added mass, terminal velocity,
+turbulence, and what a scene skips."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from conftest import cable_scene, segment
+from scipy.optimize import brentq
+
+from reference import steady_tow as ref_tow
+from towcable_fmu.ancf.system import iteration_matrix, residual
+from towcable_fmu.hydro.loading import BARE, FAIRED, drag_coefficient, loading_functions
+from towcable_fmu.hydro.turbulence import TurbulenceSeries
+from towcable_fmu.scene import scene_from_table
+from towcable_fmu.scene.model import Turbulence
+from towcable_fmu.simulation import Simulation
+
+G = 9.81
+RHO = 1025.0
+
+
+# ----------------------------------------------------------------- loading functions
+def _fn_ft(kind, eta):
+    return loading_functions(kind, math.cos(eta), math.sin(eta))
+
+
+def test_bare_loading_functions_hand_values():
+    # W(60) at eta = 90 deg: f_n = 0.5 + 0.1 + 0.4 = 1; f_t = 0.01 * polynomial
+    fn, ft = _fn_ft(BARE, math.pi / 2)
+    e = math.pi / 2
+    assert fn == pytest.approx(1.0, abs=1e-12)
+    assert ft == pytest.approx(0.01 * (2.009 - 0.3858 * e + 1.9159 * e**2 - 4.1615 * e**3 + 3.5064 * e**4
+                                       - 1.1873 * e**5), abs=1e-12)
+    # eta = 30 deg by hand: 0.5 - 0.1*0.8660 + 0.1*0.5 - 0.4*0.5 - 0.11*0.8660 = 0.068147
+    fn, ft = _fn_ft(BARE, math.radians(30))
+    assert fn == pytest.approx(0.5 - 0.0866025 + 0.05 - 0.2 - 0.0952628, abs=1e-6)
+    e = math.radians(30)
+    assert ft == pytest.approx(0.01 * (2.009 - 0.3858 * e + 1.9159 * e**2 - 4.1615 * e**3 + 3.5064 * e**4
+                                       - 1.1873 * e**5), rel=1e-12)
+
+
+def test_faired_loading_functions_hand_values():
+    # W(145) at eta = 0: f_n = 0.498609 - 0.2499 - 0.2487; f_t (W(145b)) = -0.2255 + 0.3417
+    fn, ft = _fn_ft(FAIRED, 0.0)
+    assert fn == pytest.approx(0.498609 - 0.2499 - 0.2487, abs=1e-12)
+    assert ft == pytest.approx(-0.2255 + 0.3417, abs=1e-12)
+    fn, ft = _fn_ft(FAIRED, math.pi / 2)
+    assert fn == pytest.approx(0.498609 + 0.2527 + 0.2487, abs=1e-12)
+    assert ft == pytest.approx(-0.2255 + 0.255, abs=1e-12)
+
+
+def test_drag_coefficient_hand_values_and_continuity():
+    assert drag_coefficient(100.0) == pytest.approx(1.1 + 4.0 / 10.0, rel=1e-12)
+    assert drag_coefficient(1e4) == pytest.approx(1.1 + 4.0 / 100.0, rel=1e-12)
+    assert drag_coefficient(10.0) == pytest.approx(1.45 + 8.55 * 10.0**-0.9, rel=1e-12)
+    s = -0.077215665 + math.log(8.0 / 0.5)
+    assert drag_coefficient(0.5) == pytest.approx(8 * math.pi / (0.5 * s) * (1 - 0.87 / s**2), rel=1e-12)
+    # the printed branches jump at Re = 1 and 30; the blend makes C_D continuous
+    re = np.exp(np.linspace(np.log(0.2), np.log(200.0), 20001))
+    cd = np.array([drag_coefficient(r) for r in re])
+    assert np.max(np.abs(np.diff(cd)) / cd[:-1]) < 2e-3
+
+
+# ----------------------------------------------------------------- steady towing
+def _full_scale(elements_bare: int, elements_faired: int):
+    sim = Simulation.from_scene("full_scale", {"cable.segments[0].elements": elements_bare,
+                                               "cable.segments[1].elements": elements_faired})
+    return sim.initialize()
+
+
+def test_full_scale_steady_tow_matches_independent_solution_and_converges():
+    ref = ref_tow.full_scale_case()  # tow point (0, 0, 3.4); ours is (-28.8, 0, 3.4)
+    errors = []
+    for n in (7, 14, 28):
+        out = _full_scale(2 * n, n)
+        errors.append((abs(out["tension.top"] / ref.tension_top - 1),
+                       abs(out["towbody.z"] / ref.body_position[2] - 1),
+                       abs((out["towbody.x"] + 28.8) / ref.body_position[0] - 1),
+                       abs(out["tension.towbody"] / ref.tension_body - 1)))
+    errors = np.array(errors)
+    assert np.all(errors[-1] < 0.01)  # within 1 % on a fine mesh (measured: 0.2 %, 0.1 %)
+    assert errors[-1, 0] < errors[0, 0] and errors[-1, 1] < errors[0, 1]
+
+
+def test_flume_steady_tow_matches_independent_solution():
+    ref = ref_tow.flume_case()
+    errors = []
+    for n in (6, 12, 24):
+        sim = Simulation.from_scene("flume", {"cable.segments[0].elements": n})
+        out = sim.initialize()
+        errors.append((abs(out["tension.top"] / ref.tension_top - 1),
+                       abs(out["towbody.z"] / ref.body_position[2] - 1),
+                       abs(out["towbody.x"] / ref.body_position[0] - 1)))
+    errors = np.array(errors)
+    assert np.all(errors[-1] < 0.01)
+    assert errors[-1].max() < errors[0].max()
+
+
+def test_vertical_cable_tension_kinks_at_the_waterline_by_the_buoyancy():
+    """Tension of a cable hanging through the surface: slope mu g above, (mu - rho A) g below."""
+    mu, d, m, length = 1.0, 0.02, 10.0, 20.0
+    area = math.pi * d**2 / 4
+    table = cable_scene([segment(length, 10, mu=mu, EA=1e9, EI=1e-3, diameter=d)],
+                        top={"type": "pinned", "position": [0.0, 0.0, 5.0]}, towbody={"mass": m},
+                        water={"density": RHO})
+    sim = Simulation(scene_from_table(table))
+    sim.initialize()
+    arc, tension = sim.tension_profile()
+    s_wl = 5.0  # the waterline, 5 m below the top (stretch ~1e-7)
+    expected = m * G + mu * G * (length - arc) - RHO * area * G * (length - np.maximum(arc, s_wl))
+    # the strain of cubic elements approximates the kink: within 0.2 % in the element that
+    # crosses the surface, 0.1 % elsewhere (the support reaction and the force on the
+    # body, below, are exact)
+    crossing = (arc >= 4.0) & (arc <= 6.0)
+    np.testing.assert_allclose(tension[~crossing], expected[~crossing], rtol=1e-3)
+    np.testing.assert_allclose(tension[crossing], expected[crossing], rtol=2e-3)
+    assert sim.outputs()["tension.top"] == pytest.approx(expected[0], rel=1e-7)
+    assert sim.outputs()["tension.towbody"] == pytest.approx(m * G, rel=1e-7)
+    above = (arc < 4.0)
+    below = (arc > 6.0)
+    slope_above = np.polyfit(arc[above], tension[above], 1)[0]
+    slope_below = np.polyfit(arc[below], tension[below], 1)[0]
+    assert slope_below - slope_above == pytest.approx(RHO * area * G, rel=1e-2)
+
+
+# ----------------------------------------------------------------- dynamics in water
+def _submerged(body: dict, seg: dict, solver: dict) -> Simulation:
+    """A cable hanging from (0, 0, -1), below the surface z = 0."""
+    table = cable_scene([seg], top={"type": "pinned", "position": [0.0, 0.0, -1.0]}, towbody=body,
+                        water={"density": RHO}, solver=solver)
+    return Simulation(scene_from_table(table))
+
+
+def _period(t, y):
+    y = y - y.mean()
+    idx = np.flatnonzero((y[:-1] < 0) & (y[1:] >= 0))
+    times = t[idx] - y[idx] * (t[idx + 1] - t[idx]) / (y[idx + 1] - y[idx])
+    return float(np.mean(np.diff(times)))
+
+
+def test_axial_oscillation_under_water_uses_body_added_mass_but_no_axial_cable_added_mass():
+    """Added mass acts normal to the cable only (W(66)-(74)): in an axial oscillation the
+    cable contributes its structural mass, the body its mass plus rho V C_m,b."""
+    length, mu, d, ea = 10.0, 1.0, 0.05, 1e6
+    m_b, volume, cmb = 20.0, 0.004, 0.5
+    sim = _submerged({"mass": m_b, "volume": volume, "added_mass_coefficient": [cmb, cmb, cmb]},
+                     segment(length, 10, mu=mu, EA=ea, EI=1e-3, diameter=d, drag_coefficient=1e-9),
+                     {"time_step": 2e-4, "rho_inf": 1.0})
+    sim.initialize()
+    z_eq = sim.outputs()["towbody.z"]
+    v = np.zeros_like(sim.state.q).reshape(-1, 2, 3)
+    v[:, 0, 2] = -0.02 * sim.mesh.node_arc / length
+    sim.set_coordinates(sim.state.q, v.ravel())
+    res = sim.run(0.6, interval=4e-4)
+    omega = 2 * np.pi / _period(res["time"], res["towbody.z"] - z_eq)
+    big_m = m_b + RHO * volume * cmb
+    beta = brentq(lambda b: b * np.tan(b) - mu * length / big_m, 1e-6, np.pi / 2 - 1e-9)
+    assert omega == pytest.approx(beta * np.sqrt(ea / mu) / length, rel=3e-3)
+    # had the cable's added mass acted along it, the frequency would be 12 % lower
+    mu_wrong = mu + RHO * math.pi * d**2 / 4
+    beta_w = brentq(lambda b: b * np.tan(b) - mu_wrong * length / big_m, 1e-6, np.pi / 2 - 1e-9)
+    assert beta_w * np.sqrt(ea / mu_wrong) / length < 0.9 * omega
+
+
+def test_pendulum_under_water_period_with_added_mass():
+    """Small swing of a submerged body on a cable (a rigid pendulum: the cable stays straight):
+    omega^2 = restoring moment / inertia with the net weights and the normal added masses."""
+    length, mu, d = 5.0, 0.5, 0.03
+    m_b, volume, cmb = 50.0, 0.01, 0.5
+    area = math.pi * d**2 / 4
+    sim = _submerged({"mass": m_b, "volume": volume, "added_mass_coefficient": [cmb, cmb, cmb]},
+                     segment(length, 8, mu=mu, EA=1e7, EI=1e-2, diameter=d, drag_coefficient=1e-9),
+                     {"time_step": 5e-3})
+    sim.initialize()
+    # rotate the hanging equilibrium about the top by a small angle
+    angle = 0.03
+    rot = np.array([[np.cos(angle), 0.0, np.sin(angle)], [0.0, 1.0, 0.0], [-np.sin(angle), 0.0, np.cos(angle)]])
+    q = sim.state.q.copy().reshape(-1, 2, 3)
+    top = np.array([0.0, 0.0, -1.0])
+    q[:, 0, :] = (q[:, 0, :] - top) @ rot.T + top
+    q[:, 1, :] = q[:, 1, :] @ rot.T
+    sim.set_coordinates(q.ravel())
+    res = sim.run(30.0, interval=0.01)
+    moment = (m_b - RHO * volume) * G * length + (mu - RHO * area) * G * length**2 / 2
+    inertia = (m_b + RHO * volume * cmb) * length**2 + (mu + RHO * area * 1.0) * length**3 / 3
+    period = 2 * np.pi / math.sqrt(moment / inertia)
+    assert _period(res["time"], res["towbody.x"]) == pytest.approx(period, rel=5e-3)
+
+
+def test_body_released_in_still_water_reaches_terminal_velocity():
+    """A free body with a short line falls at the speed where net weight = drag."""
+    m_b, volume, dia = 5.0, 1e-3, 0.2
+    cda = 0.5 * math.pi * dia**2 / 4
+    mu, d, length = 0.05, 0.005, 1.0
+    table = cable_scene([segment(length, 2, mu=mu, EA=1e6, EI=1e-3, diameter=d)],
+                        top={"type": "free", "position": [0.0, 0.0, -10.0]}, bottom={"type": "free"},
+                        towbody={"mass": m_b, "volume": volume, "added_mass_coefficient": [0.5, 0.5, 0.5],
+                                 "parts": [{"area": [math.pi * dia**2 / 4] * 3, "drag_coefficient": [0.5] * 3}]},
+                        water={"density": RHO, "viscosity": 1.2e-3}, statics={"enabled": False},
+                        solver={"time_step": 0.01})
+    sim = Simulation(scene_from_table(table))
+    sim.initialize()
+    res = sim.run(15.0, interval=0.1)
+    net = (m_b - RHO * volume) * G + (mu - RHO * math.pi * d**2 / 4) * G * length
+
+    def balance(v):
+        skin = 0.5 * RHO * d * ref_tow.drag_coefficient(RHO * d * v / 1.2e-3) * ref_tow.ft_bare(0.0) * v**2
+        return 0.5 * RHO * cda * v**2 + skin * length - net
+
+    v_term = brentq(balance, 0.01, 20.0)
+    assert -res["towbody.vz"][-1] == pytest.approx(v_term, rel=2e-3)
+    assert abs(res["towbody.vx"][-1]) < 1e-6  # straight down
+
+
+# ----------------------------------------------------------------- turbulence
+def test_turbulence_standard_deviation_reproducibility_and_blocks():
+    cfg = Turbulence(std=(0.03, 0.0262, 0.0152), cutoff=2.0, seed=7)
+    a = TurbulenceSeries(cfg)
+    a.extend_to(7200.0)
+    np.testing.assert_allclose(a.samples.std(axis=0), cfg.std, rtol=0.03)
+    b = TurbulenceSeries(cfg)
+    b.extend_to(100.0)
+    b.extend_to(7200.0)
+    np.testing.assert_array_equal(a.samples, b.samples)  # built in blocks: the same series
+    c = TurbulenceSeries(Turbulence(std=cfg.std, cutoff=2.0, seed=8))
+    c.extend_to(10.0)
+    assert not np.allclose(c.samples[:100], a.samples[:100])
+    # low-pass: almost no power above the stop-band edge
+    spec = np.abs(np.fft.rfft(a.samples[:, 0])) ** 2
+    freq = np.fft.rfftfreq(a.samples.shape[0], a.dt)
+    assert spec[freq > 3.0].sum() < 1e-4 * spec.sum()
+
+
+def test_flume_run_with_turbulence_moves_the_sphere_and_is_reproducible():
+    outs = []
+    for _ in range(2):
+        sim = Simulation.from_scene("flume")
+        sim.initialize()
+        outs.append(sim.run(5.0, interval=0.05))
+    np.testing.assert_array_equal(outs[0]["towbody.z"], outs[1]["towbody.z"])
+    assert np.std(outs[0]["towbody.y"]) > 1e-5  # the cross-flow turbulence moves it sideways
+
+
+# ----------------------------------------------------------------- what a scene skips
+def test_dry_scene_never_calls_the_hydrodynamic_kernels():
+    sim = Simulation.from_scene("hanging_cable")
+    sim.initialize()
+    sim.run(1.0)
+    assert not sim.model.water.enabled
+    assert sim.model.hydro.calls[0] == 0 and sim.model.body.calls[0] == 0
+
+
+def test_elements_above_the_water_cost_no_hydrodynamics():
+    sim = Simulation.from_scene("full_scale", {"water.surface_z": -1000.0})
+    sim.initialize()
+    sim.run(0.5)
+    assert sim.model.hydro.calls[0] == 0 and sim.model.body.calls[0] == 0
+    wet = Simulation.from_scene("full_scale")
+    wet.initialize()
+    assert wet.model.hydro.calls[0] > 0 and wet.model.body.calls[0] > 0
+
+
+def test_no_impulse_when_an_element_enters_the_water():
+    """The hydrodynamic generalised force changes continuously as an element is lowered
+    through the surface (partial-element quadrature W(78)-(80))."""
+    from towcable_fmu.scene import scene_from_table
+
+    table = cable_scene([segment(2.0, 1, mu=0.1, EA=1e6, diameter=0.05, integration_points=5)],
+                        top={"type": "pinned", "position": [0.0, 0.0, 0.0]},
+                        water={"density": RHO, "surface_z": 0.0})
+    sim = Simulation(scene_from_table(table))
+    m = sim.model
+    zero = np.zeros(12)
+    forces = []
+    shifts = np.linspace(-0.1, 2.1, 2201)  # element from fully dry to fully wet, 1 mm steps
+    for dz in shifts:
+        q = np.array([0, 0, 1 - dz, 0, 0, -1, 0, 0, -1 - dz, 0, 0, -1.0])
+        r = np.zeros(12)
+        residual(m, q, zero, zero, 0.0, np.zeros((3, 6)), r)
+        forces.append(r - residual_dry(m, q))
+    forces = np.array(forces)
+    step = np.abs(np.diff(forces, axis=0)).max()
+    buoyancy_per_m = RHO * math.pi * 0.05**2 / 4 * G
+    assert step < 2e-3 * buoyancy_per_m * 2.0  # Lipschitz: 1 mm of wet length at a time
+    assert np.abs(forces[-1]).max() > 0.5 * buoyancy_per_m  # and fully wet it does carry the load
+
+
+def residual_dry(model, q):
+    """The same element's residual without water."""
+    dry = model._replace(water=model.water._replace(enabled=False))
+    r = np.zeros(12)
+    zero = np.zeros(12)
+    residual(dry, q, zero, zero, 0.0, np.zeros((3, 6)), r)
+    return r
+
+
+@pytest.mark.parametrize("scene", ["flume", "full_scale"])
+def test_newton_with_the_assembled_jacobian_converges(scene):
+    """From a slightly perturbed equilibrium, Newton steps with the compiled iteration matrix
+    (stiffness part) reduce the residual a thousandfold in four steps: the tangents of
+    drag, current profile and waterline crossing are consistent with the residual (with the
+    crossing tangent missing, Newton stalls at a few per cent of the start)."""
+    from towcable_fmu.numerics.banded import band_lu, band_solve
+
+    sim = Simulation.from_scene(scene)
+    sim.initialize()
+    m = sim.model
+    q = sim.state.q.copy()
+    free = m.free_dofs
+    rng = np.random.default_rng(1)
+    q[free] += 1e-6 * m.el_len.min() * rng.standard_normal(free.size)
+    v = np.zeros_like(q)
+    r = np.zeros_like(q)
+    ship = np.zeros((3, 6))
+    n = free.size
+    norms = []
+    for _ in range(5):
+        residual(m, q, v, v, 0.0, ship, r)
+        norms.append(np.abs(r[free]).max())
+        ab = np.zeros((2 * m.kl + m.ku + 1, n))
+        iteration_matrix(m, q, v, 0.0, ship, 0.0, 0.0, 1.0, ab)
+        ipiv = np.zeros(n, dtype=np.int64)
+        band_lu(ab, n, m.kl, m.ku, ipiv)
+        dx = -r[free]
+        band_solve(ab, n, m.kl, m.ku, ipiv, dx)
+        q[free] += dx
+    assert norms[4] < 1e-3 * norms[0]

@@ -1,0 +1,1 @@
+"""Hydrodynamics: loading functions, current and turbulence, cable and towed-body loads."""

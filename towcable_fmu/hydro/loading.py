@@ -1,0 +1,91 @@
+"""Empirical loading functions and the Reynolds-dependent drag coefficient of a cable.
+
+* Bare cable, W(60) (Driscoll & Nahon): normal f_n and tangential f_t as functions of
+  the angle eta in [0, pi/2] between the relative flow and the cable.
+* Ribbon-faired cable, W(145) (Folb & Nelligan); W(145b) is the tangential function
+  f_t (the reference prints it as f_n).
+* C_D(Re), W(61)-(63) (Choo & Casarella), with Re from the normal relative speed.
+  At Re -> 0 the first branch diverges; the coefficient is evaluated at no less than
+  ``RE_MIN`` (the drag itself goes to zero with the speed).
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+BARE = 0
+FAIRED = 1
+LOADINGS = {"bare": BARE, "faired": FAIRED}
+
+#: Smallest Reynolds number at which C_D(Re) is evaluated.
+RE_MIN = 1e-3
+
+
+@njit(cache=True, inline="always")
+def loading_functions(kind: int, cos_eta: float, sin_eta: float) -> tuple[float, float]:
+    """(f_n, f_t) for a bare (0) or faired (1) cable.
+
+    Parameters
+    ----------
+    kind
+        BARE or FAIRED.
+    cos_eta, sin_eta
+        Cosine and sine of the angle eta in [0, pi/2] between the relative flow and the
+        cable (both >= 0; passing them avoids inverse trigonometry in the hot loop).
+    """
+    cos2 = 2.0 * cos_eta * cos_eta - 1.0
+    sin2 = 2.0 * sin_eta * cos_eta
+    if kind == BARE:
+        eta = math.atan2(sin_eta, cos_eta)
+        fn = 0.5 - 0.1 * cos_eta + 0.1 * sin_eta - 0.4 * cos2 - 0.11 * sin2
+        ft = 0.01 * (2.009 + eta * (-0.3858 + eta * (1.9159 + eta * (-4.1615 + eta * (3.5064 - 1.1873 * eta)))))
+    else:
+        fn = 0.498609 - 0.2499 * cos_eta + 0.2527 * sin_eta - 0.2487 * cos2
+        ft = -0.2255 + 0.3417 * cos_eta + 0.255 * sin_eta - 0.0811 * sin2
+    return fn, ft
+
+
+@njit(cache=True, inline="always")
+def _cd_branch(re: float, branch: int) -> float:
+    if branch == 0:
+        s = -0.077215665 + math.log(8.0 / re)
+        return 8.0 * math.pi / (re * s) * (1.0 - 0.87 / (s * s))
+    if branch == 1:
+        return 1.45 + 8.55 * re ** -0.9
+    return 1.1 + 4.0 / math.sqrt(re)
+
+
+@njit(cache=True, inline="always")
+def drag_coefficient(re: float) -> float:
+    """Common drag coefficient C_D(Re) of a cable, W(61)-(62).
+
+    The three branches of W(61) do not meet (C_D jumps by 2 % at Re = 1 and by 1 % at
+    Re = 30); such a jump can leave no exact equilibrium and makes Newton cycle. Within
+    a factor ``RE_BLEND`` of each break point the neighbouring branches are blended
+    smoothly in log Re; elsewhere the formula is exactly the reference's.
+    """
+    re = max(re, RE_MIN)
+    if re >= _HI[1]:
+        return 1.1 + 4.0 / math.sqrt(re)
+    if re > _LO[1]:
+        return _blend(re, 1)
+    if re >= _HI[0]:
+        return _cd_branch(re, 1)
+    if re > _LO[0]:
+        return _blend(re, 0)
+    return _cd_branch(re, 0)
+
+
+@njit(cache=True, inline="always")
+def _blend(re: float, k: int) -> float:
+    s = (math.log(re) - math.log(_LO[k])) / (math.log(_HI[k]) - math.log(_LO[k]))
+    w = s * s * (3.0 - 2.0 * s)
+    return (1.0 - w) * _cd_branch(re, k) + w * _cd_branch(re, k + 1)
+
+
+#: Half-width of the blending zone around each break point (Re = 1 and 30), as a factor on Re.
+RE_BLEND = 1.1
+_LO = (1.0 / RE_BLEND, 30.0 / RE_BLEND)
+_HI = (1.0 * RE_BLEND, 30.0 * RE_BLEND)

@@ -1,0 +1,97 @@
+"""Hydrodynamic forces on the lumped towed body, W(85)-(92).
+
+While the body is below the surface: buoyancy ``rho V g``; drag per axis
+``1/2 rho (sum C_D A)_i |V_i| V_i`` of the relative flow ``V = V_f - V_b`` W(87); a lift
+of constant direction ``1/2 rho A C_L (V . axis)^2`` (section 5.2); the inertia force
+``rho V (C_m,b + 1) dV_f/dt`` W(88); and the added mass ``rho V C_m,b`` per axis W(89),
+which enters the residual with the body's acceleration and the iteration matrix as a
+mass W(92). Above the surface only its weight acts (part of the constant loads).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from .water import WaterModel, flow
+
+
+class BodyHydro(NamedTuple):
+    """Towed-body data for the kernels (``enabled`` False: no body in water)."""
+
+    enabled: bool
+    index: int              #: first coordinate of the body's position
+    volume: float           #: V [m^3]
+    added_mass: np.ndarray  #: (3,) rho V C_m,b [kg]
+    inertia: np.ndarray     #: (3,) rho V (C_m,b + 1) [kg]
+    cda: np.ndarray         #: (3,) sum of C_D A per axis [m^2]
+    lift_k: float           #: 1/2 rho A C_L [kg/m]
+    lift_dir: np.ndarray    #: (3,) unit direction of the lift
+    lift_axis: np.ndarray   #: (3,) unit flow direction that makes lift
+    calls: np.ndarray       #: (1,) int64 counter of evaluations (to verify skipping)
+
+
+def no_body() -> BodyHydro:
+    """The body data of a scene without a body in water."""
+    return BodyHydro(False, 0, 0.0, np.zeros(3), np.zeros(3), np.zeros(3), 0.0, np.zeros(3), np.zeros(3),
+                     np.zeros(1, dtype=np.int64))
+
+
+@njit(cache=True)
+def body_force(w: WaterModel, b: BodyHydro, r: np.ndarray, rv: np.ndarray, ra: np.ndarray, t: float,
+               out: np.ndarray) -> bool:
+    """Hydrodynamic force on the body [N] (including its added-mass inertia) into ``out``.
+
+    Returns False (and zero force) when the body is above the surface.
+    """
+    out[:] = 0.0
+    if r[2] >= w.surface_z:
+        return False
+    b.calls[0] += 1
+    vf = np.empty(3)
+    af = np.empty(3)
+    flow(w, r[2], t, vf, af)
+    rel = vf - rv
+    out[2] += w.density * b.volume * w.gravity
+    along = 0.0
+    for k in range(3):
+        out[k] += 0.5 * w.density * b.cda[k] * abs(rel[k]) * rel[k]
+        out[k] += b.inertia[k] * af[k] - b.added_mass[k] * ra[k]
+        along += rel[k] * b.lift_axis[k]
+    for k in range(3):
+        out[k] += b.lift_k * along * along * b.lift_dir[k]
+    return True
+
+
+@njit(cache=True)
+def add_residual(w: WaterModel, b: BodyHydro, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: float,
+                 out: np.ndarray) -> None:
+    """Subtract the body's hydrodynamic force from the residual."""
+    i0 = b.index
+    f = np.empty(3)
+    if body_force(w, b, q[i0:i0 + 3], v[i0:i0 + 3], a[i0:i0 + 3], t, f):
+        for k in range(3):
+            out[i0 + k] -= f[k]
+
+
+@njit(cache=True)
+def add_jacobian(w: WaterModel, b: BodyHydro, q: np.ndarray, v: np.ndarray, t: float, ca: float, cv: float,
+                 block: np.ndarray) -> bool:
+    """The body's part of ``ca M + cv C`` (3x3, added to ``block``); False above the surface."""
+    i0 = b.index
+    if q[i0 + 2] >= w.surface_z:
+        return False
+    vf = np.empty(3)
+    af = np.empty(3)
+    flow(w, q[i0 + 2], t, vf, af)
+    rel = vf - v[i0:i0 + 3]
+    along = 0.0
+    for k in range(3):
+        along += rel[k] * b.lift_axis[k]
+    for k in range(3):
+        block[k, k] += ca * b.added_mass[k] + cv * w.density * b.cda[k] * abs(rel[k])
+        for m in range(3):
+            block[k, m] += cv * 2.0 * b.lift_k * along * b.lift_dir[k] * b.lift_axis[m]
+    return True
