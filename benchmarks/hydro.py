@@ -1,4 +1,4 @@
-"""Hydrodynamics benchmark: cost per integration point and the statics of ``full_scale``."""
+"""Hydrodynamics benchmark: cost per integration point and the statics of ``full_scale_pinned``."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ def point_cost() -> dict[str, float]:
     from towcable_fmu.ancf.system import residual
     from towcable_fmu.simulation import Simulation
 
-    sim = Simulation.from_scene("full_scale", {"cable.segments[0].elements": 40,
+    sim = Simulation.from_scene("full_scale_pinned", {"cable.segments[0].elements": 40,
                                                "cable.segments[1].elements": 20})
     sim.initialize()
     m, st = sim.model, sim.state
@@ -34,8 +34,8 @@ def point_cost() -> dict[str, float]:
 
 
 def static_wall_time(repeats: int = 3) -> float:
-    """Median wall time of ``towcable static full_scale --json`` in a fresh process [s] (warm cache)."""
-    cmd = [sys.executable, "-m", "towcable_fmu.cli", "static", "full_scale", "--json"]
+    """Median wall time of ``towcable static full_scale_pinned --json`` in a fresh process [s] (warm cache)."""
+    cmd = [sys.executable, "-m", "towcable_fmu.cli", "static", "full_scale_pinned", "--json"]
     subprocess.run(cmd, check=True, capture_output=True)
     times = []
     for _ in range(repeats):
@@ -50,10 +50,10 @@ def main() -> str:
     cost = point_cost()
     wall = static_wall_time()
     text = ("# Hydrodynamics\n\n" + machine_header() + "\n"
-            "Residual of `full_scale` meshed with 60 elements (10 trapezoidal points each), at its static "
+            "Residual of `full_scale_pinned` meshed with 60 elements (10 trapezoidal points each), at its static "
             "equilibrium, with and without water; the difference divided by the submerged points evaluated.\n\n"
             + markdown_table(["quantity", "value"], list(cost.items()))
-            + f"\n`towcable static full_scale --json` (fresh process, warm kernel cache, median of 3): "
+            + f"\n`towcable static full_scale_pinned --json` (fresh process, warm kernel cache, median of 3): "
               f"{wall:.2f} s wall time.\n")
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / "hydro.md").write_text(text)

@@ -33,3 +33,11 @@ def make_sim():
         return Simulation(scene_from_table(table))
 
     return _make
+
+
+@pytest.fixture(scope="session")
+def fmu_paths(tmp_path_factory):
+    """The three FMUs, built once per test session into a temporary folder."""
+    from towcable_fmu.fmi.build import build_fmus
+
+    return build_fmus(tmp_path_factory.mktemp("fmus"))

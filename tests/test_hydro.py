@@ -66,7 +66,7 @@ def test_drag_coefficient_hand_values_and_continuity():
 
 # ----------------------------------------------------------------- steady towing
 def _full_scale(elements_bare: int, elements_faired: int):
-    sim = Simulation.from_scene("full_scale", {"cable.segments[0].elements": elements_bare,
+    sim = Simulation.from_scene("full_scale_pinned", {"cable.segments[0].elements": elements_bare,
                                                "cable.segments[1].elements": elements_faired})
     return sim.initialize()
 
@@ -89,7 +89,7 @@ def test_flume_steady_tow_matches_independent_solution():
     ref = ref_tow.flume_case()
     errors = []
     for n in (6, 12, 24):
-        sim = Simulation.from_scene("flume", {"cable.segments[0].elements": n})
+        sim = Simulation.from_scene("flume_pinned", {"cable.segments[0].elements": n})
         out = sim.initialize()
         errors.append((abs(out["tension.top"] / ref.tension_top - 1),
                        abs(out["towbody.z"] / ref.body_position[2] - 1),
@@ -237,7 +237,7 @@ def test_turbulence_standard_deviation_reproducibility_and_blocks():
 def test_flume_run_with_turbulence_moves_the_sphere_and_is_reproducible():
     outs = []
     for _ in range(2):
-        sim = Simulation.from_scene("flume")
+        sim = Simulation.from_scene("flume_pinned")
         sim.initialize()
         outs.append(sim.run(5.0, interval=0.05))
     np.testing.assert_array_equal(outs[0]["towbody.z"], outs[1]["towbody.z"])
@@ -254,11 +254,11 @@ def test_dry_scene_never_calls_the_hydrodynamic_kernels():
 
 
 def test_elements_above_the_water_cost_no_hydrodynamics():
-    sim = Simulation.from_scene("full_scale", {"water.surface_z": -1000.0})
+    sim = Simulation.from_scene("full_scale_pinned", {"water.surface_z": -1000.0})
     sim.initialize()
     sim.run(0.5)
     assert sim.model.hydro.calls[0] == 0 and sim.model.body.calls[0] == 0
-    wet = Simulation.from_scene("full_scale")
+    wet = Simulation.from_scene("full_scale_pinned")
     wet.initialize()
     assert wet.model.hydro.calls[0] > 0 and wet.model.body.calls[0] > 0
 
@@ -297,7 +297,7 @@ def residual_dry(model, q):
     return r
 
 
-@pytest.mark.parametrize("scene", ["flume", "full_scale"])
+@pytest.mark.parametrize("scene", ["flume_pinned", "full_scale_pinned"])
 def test_newton_with_the_assembled_jacobian_converges(scene):
     """From a slightly perturbed equilibrium, Newton steps with the compiled iteration matrix
     (stiffness part) reduce the residual a thousandfold in four steps: the tangents of

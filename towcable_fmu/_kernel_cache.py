@@ -3,9 +3,9 @@
 numba invalidates a cached function when ITS file changes, not when a compiled function
 it calls (from another file) changes; an in-place edit of one kernel module could then
 leave stale machine code in the callers' caches. At import we hash every source file of
-the project's packages and, when the hash differs from the one recorded last time,
-delete the packages' cached kernels (``*.nbi``, ``*.nbc`` next to the sources) so they
-are compiled afresh.
+the project's packages that defines compiled kernels and, when the hash differs from
+the one recorded last time, delete the packages' cached kernels (``*.nbi``, ``*.nbc``
+next to the sources) so they are compiled afresh.
 """
 
 from __future__ import annotations
@@ -17,14 +17,16 @@ _PACKAGES = ("towcable_fmu", "ship_motion", "controllers")
 
 
 def refresh_stale_cache() -> bool:
-    """Delete cached kernels if any project source changed; True if it did."""
+    """Delete cached kernels if any kernel source changed; True if it did."""
     root = Path(__file__).resolve().parent.parent
     folders = [root / name for name in _PACKAGES if (root / name).is_dir()]
     digest = hashlib.sha256()
     for folder in folders:
         for path in sorted(folder.rglob("*.py")):
-            digest.update(path.relative_to(root).as_posix().encode())
-            digest.update(path.read_bytes())
+            text = path.read_bytes()
+            if b"@njit" in text:
+                digest.update(path.relative_to(root).as_posix().encode())
+                digest.update(text)
     stamp = Path(__file__).parent / "__pycache__" / "kernel_sources.sha256"
     current = digest.hexdigest()
     try:

@@ -126,6 +126,30 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_cosim(args: argparse.Namespace) -> int:
+    """Co-simulate ShipMotion -> HeaveCompensation -> TowCable through the FMUs (fmpy)."""
+    from .cosim import CosimConfig, run_cosim, write_results
+
+    config = CosimConfig(scene=args.scene, overrides=_overrides(args.set), compensation=args.compensation,
+                         duration=args.duration, step=args.step, motion=args.motion, winch_radius=args.winch_radius,
+                         phi_nom=args.phi_nom, theta_nom=args.theta_nom,
+                         reference_point=tuple(args.reference_point) if args.reference_point else None,
+                         interval=args.interval, fmu_dir=args.fmus)
+    result = run_cosim(config, progress=None if args.quiet else Progress(), echo=not args.quiet)
+    files = write_results(result, Path(args.output), plot=not args.no_plot,
+                          title=f"co-simulation of '{args.scene}', compensation {result.parameters['HeaveCompensation']['algorithm']}")
+    if not args.quiet:
+        t = result.timing
+        print(f"wrote {', '.join(str(f) for f in files.values())}", file=sys.stderr)
+        print(f"{args.duration:g} s simulated in {t['wall']:.2f} s wall time ({t['realtime_factor']:.1f} x real time, "
+              f"{t['steps']} communication steps of {args.step:g} s; initialisation {t['initialisation']:.2f} s)",
+              file=sys.stderr)
+        print(f"model time {t['model']:.2f} s (TowCable {t['model.TowCable']:.2f} s, ShipMotion "
+              f"{t['model.ShipMotion']:.3f} s, HeaveCompensation {t['model.HeaveCompensation']:.3f} s); "
+              f"FMU overhead {100 * t['overhead_share']:.1f} % of the wall time", file=sys.stderr)
+    return 0
+
+
 def _positive(text: str) -> float:
     value = float(text)
     if not (math.isfinite(value) and value > 0):
@@ -160,6 +184,34 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", default=None, help="PNG file with time-series plots")
     p.add_argument("--quiet", action="store_true", help="no progress or summary on stderr")
     p.set_defaults(func=cmd_run)
+
+    from controllers import ALGORITHMS
+
+    p = sub.add_parser("cosim", help="co-simulate ship motion, heave compensation and cable through the three FMUs",
+                       description="Builds the FMUs if needed (into --fmus) and runs them with fmpy's low-level "
+                                   "FMI 2.0 interface at a fixed communication step. Writes cosim.csv (columns = "
+                                   "contract names), summary.json (parameters, geometry, timing) and cosim.png.")
+    p.add_argument("--scene", default="full_scale", help="TowCable scene: built-in name or TOML file (default: full_scale)")
+    p.add_argument("--compensation", choices=ALGORITHMS, default=None,
+                   help="set-point algorithm (default: the scene's [compensation], else none)")
+    p.add_argument("--duration", type=_positive, default=60.0, help="simulated time [s] (default 60)")
+    p.add_argument("--step", type=_positive, default=0.01, help="communication step [s] (default 0.01)")
+    p.add_argument("--output", default="out/cosim", help="output folder (default out/cosim)")
+    p.add_argument("--interval", type=_positive, default=None, help="recording interval [s] (default: every step)")
+    p.add_argument("--motion", default=None,
+                   help="ship motion: 'none', a TOML file or built-in scene with a [motion] table, or TOML text "
+                        "(default: the scene's [motion], else the default sea)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene value (repeatable)")
+    p.add_argument("--winch-radius", type=_positive, default=None, help="r_w [m] (default: scene [winch], else 0.30)")
+    p.add_argument("--phi-nom", type=float, default=None, help="nominal winch rotation [rad] (default: scene [winch], else 3.8)")
+    p.add_argument("--theta-nom", type=float, default=None,
+                   help="nominal departure angle [rad] (default: the cable's static angle at t0)")
+    p.add_argument("--reference-point", type=float, nargs=3, metavar=("X", "Y", "Z"), default=None,
+                   help="compensated point, ship frame [m] (default: scene [sheave], else the cable's top attachment)")
+    p.add_argument("--fmus", default="fmus", help="folder of the FMUs (built there when missing or stale; default fmus/)")
+    p.add_argument("--no-plot", action="store_true", help="do not write cosim.png")
+    p.add_argument("--quiet", action="store_true", help="no progress or summary on stderr")
+    p.set_defaults(func=cmd_cosim)
     return parser
 
 

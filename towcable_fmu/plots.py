@@ -52,3 +52,53 @@ def plot_run(series: dict[str, np.ndarray], path: Path, title: str = "") -> None
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def _time_panel(ax, t: np.ndarray, series: dict[str, np.ndarray], keys: tuple[str, ...], title: str,
+                fallback: tuple[str, ...] = ()) -> None:
+    """Plot the recorded, non-zero ``keys`` against time (else ``fallback``, else a note)."""
+    shown = [k for k in keys if k in series and np.any(series[k] != 0.0)]
+    note = ""
+    if not shown:
+        shown = [k for k in fallback if k in series and np.any(series[k] != 0.0)]
+        note = (" (" + ", ".join(keys) + " not modelled in this scene; showing " + ", ".join(shown) + ")"
+                if shown else " (" + ", ".join(keys) + " not modelled in this scene)")
+    for k in shown:
+        ax.plot(t, series[k], label=f"{k} [{contract.unit_of(k)}]", lw=1.0)
+    ax.set_title(title + note, fontsize=9)
+    ax.set_xlabel("time [s]")
+    ax.grid(alpha=0.3)
+    if shown:
+        ax.legend(fontsize=8, loc="best")
+
+
+def plot_cosim(series: dict[str, np.ndarray], path: Path, title: str = "") -> None:
+    """The four views of a co-simulation: towed-body track, tension at the sheave, sheave
+    contact force, winch rotation (with its set-point), saved as PNG.
+
+    Outputs the scene does not model (all zero) are noted in the panel title; the
+    tension panel then shows the tension at the cable's top end instead.
+    """
+    t = series["time"]
+    fig, axes = plt.subplots(2, 2, figsize=(12, 7.5))
+    ax = axes[0, 0]
+    if "towbody.x" in series and np.any(series["towbody.x"] != 0.0):
+        ax.plot(series["towbody.x"], series["towbody.z"], lw=1.0)
+        ax.plot(series["towbody.x"][:1], series["towbody.z"][:1], "o", ms=4, label="start")
+        ax.set_xlabel("towbody.x [m]")
+        ax.set_ylabel("towbody.z [m]")
+        ax.legend(fontsize=8)
+        ax.set_title("Towed-body track (side view, inertial frame)", fontsize=9)
+    else:
+        ax.set_title("Towed-body track (no towed body in this scene)", fontsize=9)
+    ax.grid(alpha=0.3)
+    _time_panel(axes[0, 1], t, series, ("tension.sheave",), "Tension at the sheave", fallback=("tension.top",))
+    _time_panel(axes[1, 0], t, series, ("contact.sheave_force",), "Sheave contact force")
+    _time_panel(axes[1, 1], t, series, ("winch.phi", "winch.phi_sp"), "Winch rotation and set-point",
+                fallback=("winch.phi_sp",))
+    if title:
+        fig.suptitle(title, fontsize=11)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

@@ -16,10 +16,15 @@ import numpy as np
 
 from . import drive as drive_poly
 from .ancf import element, initial_shape, measures
-from .ancf.mesh import Mesh, build_mesh, build_model
+from .ancf.measures import point_on_cable
+from .ancf.mesh import Mesh, build_mesh, build_model, winch_radius
+from .ancf.prescribed import apply_prescribed
 from .ancf.system import CableModel, residual
+from .contact.cable import surface_summary
+from .contact.surfaces import SHEAVE, WINCH
 from .errors import SceneError, SolverError
 from .hydro.towbody import body_force
+from .kinematics import rotation_matrix
 from .hydro.turbulence import TurbulenceSeries
 from .numerics import genalpha
 from .numerics.statics import StaticsResult, solve_statics
@@ -39,13 +44,34 @@ def _motion_source(scene: Scene):
     return motion_from_config(scene.motion, key="motion", base_dir=base)
 
 
+def compensation_config(scene: Scene, theta_nom: float):
+    """The scene's heave-compensation settings as a controllers.SetpointConfig.
+
+    The winch radius (the cable centreline's), phi_nom and the reference point (the
+    sheave centre, or the top of the drum without a sheave) default to the scene's; the
+    nominal sheave angle to ``theta_nom`` (the model's own steady-state departure angle).
+    """
+    from controllers import setpoint_config_from_table
+
+    winch = scene.winch
+    if scene.sheave is not None:
+        reference = list(scene.sheave.position)
+    else:
+        reference = [winch.position[0], winch.position[1], winch.position[2] + winch.radius]
+    table = {"reference_point": reference, "winch_radius": winch_radius(scene), "phi_nom": winch.phi_nom,
+             "theta_nom": theta_nom, "waterline_z": 0.0 if scene.water is None else scene.water.surface_z}
+    table.update(scene.compensation)
+    return setpoint_config_from_table(table, key="compensation")
+
+
 def solver_options(scene: Scene) -> genalpha.SolverOptions:
     """Integrator options from a scene's [solver] table (and winch gains when present)."""
     s = scene.solver
+    w = scene.winch
     return genalpha.SolverOptions(h_max=s.time_step, rho_inf=s.rho_inf, adaptive=s.adaptive, rtol=s.rtol,
                                   atol=s.atol, newton_tol=s.newton_tol, max_iter=s.max_newton_iterations,
                                   jac_max_age=s.jacobian_max_age, h_min=s.min_time_step,
-                                  winch_kp=0.0, winch_kd=0.0)
+                                  winch_kp=0.0 if w is None else w.kp, winch_kd=0.0 if w is None else w.kd)
 
 
 class Simulation:
@@ -70,12 +96,16 @@ class Simulation:
         self.model: CableModel = build_model(scene, self.mesh)
         self.options = solver_options(scene)
         self.motion = _motion_source(scene)
+        self.compensation = None  # the set-point algorithm, built at initialisation
+        if scene.compensation is not None:
+            compensation_config(scene, 0.0)  # validate the table now, before any computation
         self.state = genalpha.new_state(6 * self.mesh.n_nodes)
         self.workspace = genalpha.new_workspace(self.model)
         self.statics: StaticsResult | None = None
         self.turbulence: TurbulenceSeries | None = None
         self._setpoint = (0.0, 0.0)
         self._initialized = False
+        self._last_outputs: dict[str, float] = {}
 
     @classmethod
     def from_scene(cls, name_or_path: str | Path,
@@ -121,6 +151,10 @@ class Simulation:
         if setpoint is not None:
             self._setpoint = (float(setpoint[0]), float(setpoint[1]))
         st = self.state
+        st.phi[:] = 0.0
+        if self.scene.winch is not None:
+            st.phi[0] = self._setpoint[0] if setpoint is not None else self.scene.winch.phi_nom
+            self._setpoint = (float(st.phi[0]), self._setpoint[1] if setpoint is not None else 0.0)
         st.q[:] = self._initial_coordinates(ship0)
         st.v[:] = 0.0
         st.a[:] = 0.0
@@ -136,12 +170,24 @@ class Simulation:
                                          max_iterations=cfg.max_iterations)
             st.q[:] = self.statics.q
         self._start_turbulence(t0)
+        if self.scene.compensation is not None:
+            from controllers import SetpointAlgorithm
+
+            theta = self.scene.compensation.get("theta_nom")
+            if theta is None:  # the model's own steady-state departure angle (sheave, or drum)
+                self.workspace.ship[:, :] = ship0
+                theta = self._contact_outputs(0.0)["sheave_angle"]
+            self.compensation = SetpointAlgorithm(compensation_config(self.scene, float(theta)))
+            if setpoint is None:
+                sp = self.compensation.compute(ship0, None)
+                self._setpoint = (float(sp.phi_sp), float(sp.phi_sp_rate))
         if not genalpha.initial_acceleration(self.model, st, self.workspace, t0,
                                              *drive_poly.taylor_drive(t0, ship0, self._setpoint)):
             raise SolverError("the initial state has no finite acceleration (singular mass matrix or "
                               "non-finite forces)")
         self._initialized = True
-        return self.outputs()
+        self._last_outputs = self.outputs()
+        return self._last_outputs
 
     def _start_turbulence(self, t0: float) -> None:
         """(Re)start the turbulence series at t0 (same seed: same series)."""
@@ -191,24 +237,42 @@ class Simulation:
         return self.outputs()
 
     def _initial_coordinates(self, ship0: np.ndarray) -> np.ndarray:
+        """Rough initial shape: wrapped on the winch and over the sheave, straight, or sagging."""
         cable = self.scene.cable
+        m = self.model
         q = np.zeros(6 * self.mesh.n_nodes)
         v = np.zeros_like(q)
         a = np.zeros_like(q)
-        from .ancf.prescribed import apply_prescribed
-
-        m = self.model
         apply_prescribed(m.att_index, m.att_kind, m.att_vec, m.att_radius, ship0, self.state.phi, q, v, a)
-        top = q[0:3].copy()
         arc = self.mesh.node_arc
-        shape = cable.initial.shape
+        if cable.top.type == "winch":
+            return self._wrapped_shape(ship0)
+        if cable.top.type == "free":
+            q[0:3] = cable.top.position if cable.top.position is not None else 0.0
+        top = q[0:3].copy()
         if cable.bottom.type == "free":
             return initial_shape.straight(top, np.array(cable.initial.direction), arc)
         bottom = q[6 * (self.mesh.n_nodes - 1): 6 * (self.mesh.n_nodes - 1) + 3].copy()
-        if shape == "straight":  # along the chord, compressed or stretched to fit
+        if cable.initial.shape == "straight":  # along the chord, compressed or stretched to fit
             chord = bottom - top
             return initial_shape.straight(top, chord, arc, float(np.linalg.norm(chord)) / arc[-1])
         return initial_shape.sag(top, bottom, np.array(cable.initial.sag_direction), arc)
+
+    def _wrapped_shape(self, ship0: np.ndarray) -> np.ndarray:
+        """Cable wound on the drum from phi, over the sheave, then along the initial
+        direction (given in the inertial frame); transformed with the ship's pose."""
+        sc = self.scene
+        half_d = 0.5 * sc.cable.segments[0].diameter
+        rot = rotation_matrix(ship0[0, 3], ship0[0, 4], ship0[0, 5])
+        sheave = sc.sheave
+        x = initial_shape.wrapped(
+            self.mesh.node_arc, np.array(sc.winch.position), sc.winch.radius + half_d, float(self.state.phi[0]),
+            rot.T @ np.array(sc.cable.initial.direction),
+            None if sheave is None else np.array(sheave.position),
+            0.0 if sheave is None else sheave.radius + half_d).reshape(-1, 2, 3)
+        x[:, 0, :] = x[:, 0, :] @ rot.T + ship0[0, :3]
+        x[:, 1, :] = x[:, 1, :] @ rot.T
+        return x.ravel()
 
     @staticmethod
     def _check_ship(ship: np.ndarray) -> None:
@@ -236,6 +300,7 @@ class Simulation:
         if not all(math.isfinite(v) for v in out.values()):
             self._restore(saved)
             raise SolverError(f"non-finite outputs at t = {t_end:.6g} s")
+        self._last_outputs = out
         return out
 
     def advance(self, t_end: float) -> dict[str, float]:
@@ -254,8 +319,16 @@ class Simulation:
         # follow any motion the solver itself can resolve
         n = max(1, math.ceil((t_end - t0) / self.options.h_max - 1e-9))
         times = np.linspace(t0, t_end, n + 1)
-        setpoints = np.tile(self._setpoint, (n + 1, 1))
-        return self._advance_with(t_end, drive_poly.knot_drive(times, self.motion.evaluate_many(times), setpoints))
+        ships = self.motion.evaluate_many(times)
+        if self.compensation is not None:
+            # the measured sheave angle (rigorous algorithms) is that at the start of the interval
+            angle = self._last_outputs.get("sheave_angle", np.nan) if self.compensation.config.rigorous else np.nan
+            sp = self.compensation.compute_series(ships, np.full(n + 1, angle))
+            setpoints = np.column_stack([sp.phi_sp, sp.phi_sp_rate])
+            self._setpoint = (float(setpoints[-1, 0]), float(setpoints[-1, 1]))
+        else:
+            setpoints = np.tile(self._setpoint, (n + 1, 1))
+        return self._advance_with(t_end, drive_poly.knot_drive(times, ships, setpoints))
 
     def step(self, dt: float, ship: np.ndarray, setpoint: tuple[float, float] | None = None) -> dict[str, float]:
         """Advance by ``dt`` with the ship state given at the start of the step (FMU style).
@@ -367,10 +440,70 @@ class Simulation:
             for k, c in enumerate("xyz"):
                 out[f"towbody.{c}"] = float(st.q[last + k])
                 out[f"towbody.v{c}"] = float(st.v[last + k])
+        if m.contact.enabled:
+            out.update(self._contact_outputs(float(top)))
         out["energy.kinetic"] = float(kinetic)
         out["energy.strain"] = float(strain)
         out["energy.gravity"] = float(gravity)
         out["winch.phi"] = float(st.phi[0])
+        if self.scene.winch is not None:
+            out["winch.payout"] = winch_radius(self.scene) * (self.scene.winch.phi_nom - float(st.phi[0]))
+        return out
+
+    def contact_state(self) -> dict[str, np.ndarray]:
+        """Contact at the current time: totals per surface and the force distribution.
+
+        Returns
+        -------
+        dict
+            ``force`` (2, 3) total contact force on the cable of the winch (row 0) and the
+            sheave (row 1) [N]; ``span`` (2, 2) smallest and largest angle of a touching
+            point, measured about the surface axis from the ship's +Z towards +X [rad];
+            ``ends`` (2, 4) element and position of the first and of the last touching point
+            along the cable (element -1: no contact); ``lowest`` (2,) lowest height of the cable above its seated position over
+            the upper half of each surface [m]; ``distribution`` (k, 3) rows (surface,
+            angle [rad], force per unit length [N/m]).
+        """
+        m = self.model
+        force = np.zeros((2, 3))
+        span = np.zeros((2, 2))
+        ends = np.zeros((2, 4))
+        lowest = np.zeros(2)
+        dist = np.zeros((4 * int(m.hydro.el_npts.sum()), 3))
+        rows = surface_summary(m.contact, m.el_len, m.hydro.el_d, m.hydro.el_npts, self.state.q, self.state.v,
+                               self.workspace.ship, force, span, ends, lowest, dist)
+        return {"force": force, "span": span, "ends": ends, "lowest": lowest, "distribution": dist[:rows]}
+
+    def _contact_outputs(self, top_tension: float) -> dict[str, float]:
+        """Winch and sheave outputs: contact forces, departure tension and angle, wrap, detachment."""
+        c = self.contact_state()
+        out: dict[str, float] = {"contact.winch_force": float(np.linalg.norm(c["force"][WINCH])),
+                                 "contact.sheave_force": float(np.linalg.norm(c["force"][SHEAVE]))}
+        rot = rotation_matrix(*self.workspace.ship[0, 3:6])
+        if self.scene.winch is not None:
+            e, xi = c["ends"][WINCH, 2:]
+            leave = point_on_cable(self.model, self.state.q, int(max(e, 0)), xi if e >= 0 else 0.0)
+            out["tension.winch"] = float(leave[6]) if e >= 0 else top_tension
+            if self.scene.sheave is None:  # the cable departs from the drum: its angle plays the sheave's role
+                u = rot.T @ leave[3:6]
+                out["sheave_angle"] = float(np.arctan2(-u[0], -u[2]))
+        if self.scene.sheave is not None:
+            e0, xi0, e, xi = c["ends"][SHEAVE]
+            if e < 0:  # not touching: where the cable passes closest to the sheave
+                centre = rot @ np.array(self.scene.sheave.position) + self.workspace.ship[0, :3]
+                node = int(np.argmin(np.linalg.norm(self.node_positions() - centre, axis=1)))
+                e, xi = (node, 0.0) if node < self.mesh.n_elements else (node - 1, 1.0)
+            leave = point_on_cable(self.model, self.state.q, int(e), xi)
+            out["tension.sheave"] = float(leave[6])
+            u = rot.T @ leave[3:6]  # ship frame
+            out["sheave_angle"] = float(np.arctan2(-u[0], -u[2]))
+            if e0 >= 0:  # the wrap: how far the cable turns between meeting and leaving the sheave
+                u0 = rot.T @ point_on_cable(self.model, self.state.q, int(e0), xi0)[3:6]
+                turn = u0[0] * u[2] - u0[2] * u[0]
+                out["contact.wrap_angle"] = float(abs(np.arctan2(turn, u0[0] * u[0] + u0[2] * u[2])))
+            else:
+                out["contact.wrap_angle"] = 0.0
+            out["contact.detached"] = float(c["lowest"][SHEAVE] > self.scene.sheave.groove_depth)
         return out
 
     def statistics(self) -> dict[str, float]:

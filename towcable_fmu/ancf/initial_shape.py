@@ -79,3 +79,83 @@ def sag(top: np.ndarray, bottom: np.ndarray, sag_direction: np.ndarray, node_arc
     norm = np.hypot(tx, ty)
     x[:, 1, :] = (tx / norm)[:, None] * ex[None, :] + (ty / norm)[:, None] * ey[None, :]
     return x.ravel()
+
+
+def wrapped(node_arc: np.ndarray, drum_center: np.ndarray, drum_radius: float, phi0: float,
+            departure: np.ndarray, sheave_center: np.ndarray | None = None,
+            sheave_radius: float = 0.0) -> np.ndarray:
+    """Cable wound on the drum, over the sheave (if any), then straight: ship-frame coordinates.
+
+    The path, in the ship's XZ plane, starts at the cable end on the drum (angle ``phi0``
+    from the top towards +X), follows the drum with decreasing angle to the upper common
+    tangent with the sheave, runs along it, follows the sheave over its top to the point
+    where the cable direction equals ``departure``, and continues straight. Without a
+    sheave it leaves the drum where its direction equals ``departure``. Radii are those of
+    the cable centreline (surface radius plus cable radius).
+
+    Parameters
+    ----------
+    node_arc
+        Unstretched arc length of each node from the drum end [m].
+    drum_center, drum_radius, phi0
+        Drum centre (ship frame) [m], centreline radius [m], angle of the cable end [rad].
+    departure
+        Direction of the cable after the last contact (ship frame).
+    sheave_center, sheave_radius
+        Sheave centre (ship frame) [m] and centreline radius [m], or None.
+
+    Returns
+    -------
+    ndarray, shape (6 nn,)
+        Nodal positions and unit slopes in the ship frame.
+    """
+    u = np.asarray(departure, dtype=float)
+    u = u / np.linalg.norm(u)
+    angle_out = np.arctan2(u[2], -u[0])  # circle angle where the tangent of decreasing angle is u
+    c1 = np.asarray(drum_center, dtype=float)
+    pieces = []  # ("arc", centre, radius, a0, a1) or ("line", p0, p1)
+    if sheave_center is None:
+        pieces.append(("arc", c1, drum_radius, phi0, angle_out))
+    else:
+        c2 = np.asarray(sheave_center, dtype=float)
+        chord = np.array([c2[0] - c1[0], c2[2] - c1[2]])
+        dist = float(np.hypot(*chord))
+        d = chord / dist
+        up = np.array([d[1], -d[0]]) if -d[0] >= 0 else np.array([-d[1], d[0]])
+        if up[1] < 0:
+            up = -up
+        sin_a = (drum_radius - sheave_radius) / dist
+        n = np.sqrt(1.0 - sin_a**2) * up + sin_a * d
+        tangent_angle = np.arctan2(n[0], n[1])
+        p1 = c1 + drum_radius * np.array([n[0], 0.0, n[1]])
+        p2 = c2 + sheave_radius * np.array([n[0], 0.0, n[1]])
+        p1[1], p2[1] = c1[1], c2[1]
+        pieces.append(("arc", c1, drum_radius, phi0, tangent_angle))
+        pieces.append(("line", p1, p2))
+        pieces.append(("arc", c2, sheave_radius, tangent_angle, angle_out))
+    x = np.zeros((node_arc.size, 2, 3))
+    start = 0.0
+    tail_point, tail_dir = None, u
+    for piece in pieces:
+        if piece[0] == "arc":
+            _, c, rad, a0, a1 = piece
+            length = rad * max(a0 - a1, 0.0)
+            sel = (node_arc >= start) & (node_arc <= start + length)
+            ang = a0 - (node_arc[sel] - start) / rad
+            x[sel, 0, :] = c + rad * np.column_stack([np.sin(ang), np.zeros_like(ang), np.cos(ang)])
+            x[sel, 1, :] = np.column_stack([-np.cos(ang), np.zeros_like(ang), np.sin(ang)])
+            end = min(a0, max(a1, a0 - length / rad)) if rad > 0 else a0
+            tail_point = c + rad * np.array([np.sin(end), 0.0, np.cos(end)])
+        else:
+            _, p0, p1 = piece
+            length = float(np.linalg.norm(p1 - p0))
+            direction = (p1 - p0) / length
+            sel = (node_arc >= start) & (node_arc <= start + length)
+            x[sel, 0, :] = p0 + (node_arc[sel] - start)[:, None] * direction
+            x[sel, 1, :] = direction
+            tail_point = p1
+        start += length
+    sel = node_arc > start
+    x[sel, 0, :] = tail_point + (node_arc[sel] - start)[:, None] * tail_dir
+    x[sel, 1, :] = tail_dir
+    return x.ravel()

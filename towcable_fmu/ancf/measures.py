@@ -138,3 +138,42 @@ def angle_from_vertical(direction: np.ndarray) -> float:
     d = np.asarray(direction, dtype=float)
     horizontal = float(np.hypot(d[0], d[1]))
     return float(np.arctan2(horizontal, -d[2]))
+
+
+@njit(cache=True)
+def point_on_cable(model: CableModel, q: np.ndarray, e: int, xi: float) -> np.ndarray:
+    """Position [m], unit direction and tension [N] at normalised position xi of element e.
+
+    Returns
+    -------
+    ndarray, shape (7,)
+        x, y, z, u_x, u_y, u_z, tension.
+    """
+    length = model.el_len[e]
+    ng = model.gauss_w.shape[0]
+    d = np.empty((ng, 4))
+    lam = np.empty(ng)
+    u = np.empty((ng, 3))
+    slope_derivatives(model.gauss_dn, length, d)
+    dn = np.empty((1, 4))
+    dn[0, 0] = -6.0 * xi + 6.0 * xi * xi
+    dn[0, 1] = 1.0 - 4.0 * xi + 3.0 * xi * xi
+    dn[0, 2] = 6.0 * xi - 6.0 * xi * xi
+    dn[0, 3] = 3.0 * xi * xi - 2.0 * xi
+    eps = np.empty(1)
+    base = 6 * e
+    axial_strains(q[base:base + 12], length, d, model.gauss_w, lam, u, dn, eps)
+    if model.el_tension_only[e] and eps[0] < 0.0:
+        eps[0] = 0.0
+    n = (1.0 - 3.0 * xi**2 + 2.0 * xi**3, length * (xi - 2.0 * xi**2 + xi**3), 3.0 * xi**2 - 2.0 * xi**3,
+         length * (xi**3 - xi**2))
+    out = np.zeros(7)
+    for c in range(3):
+        out[c] = n[0] * q[base + c] + n[1] * q[base + 3 + c] + n[2] * q[base + 6 + c] + n[3] * q[base + 9 + c]
+        out[3 + c] = (dn[0, 0] / length * q[base + c] + dn[0, 1] * q[base + 3 + c]
+                      + dn[0, 2] / length * q[base + 6 + c] + dn[0, 3] * q[base + 9 + c])
+    norm = np.sqrt(out[3] ** 2 + out[4] ** 2 + out[5] ** 2)
+    for c in range(3):
+        out[3 + c] /= max(norm, 1e-300)
+    out[6] = model.el_ea[e] * eps[0] * np.sqrt(max(1.0 + 2.0 * eps[0], 0.0))
+    return out

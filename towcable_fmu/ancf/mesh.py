@@ -17,7 +17,8 @@ from ..hydro.towbody import BodyHydro, no_body
 from ..hydro.water import CURRENT_KINDS, WaterModel, dry_water
 from ..scene.model import End, Scene
 from . import element
-from .prescribed import FIXED_POINT, FIXED_SLOPE, SHIP_POINT, SHIP_SLOPE
+from ..contact.surfaces import CYLINDER, SHEAVE, WALL_MINUS, WALL_PLUS, WINCH, ContactModel, no_contact
+from .prescribed import FIXED_POINT, FIXED_SLOPE, SHIP_POINT, SHIP_SLOPE, WINCH_POINT
 from .system import CableModel
 
 #: Gauss points per element for the axial force (exact for its polynomial integrands).
@@ -63,11 +64,14 @@ def build_mesh(scene: Scene) -> Mesh:
     return Mesh(lengths_arr, np.array(seg, dtype=np.int64), np.concatenate([[0.0], np.cumsum(lengths_arr)]))
 
 
-def _attachments(end: End, node: int, key: str, sign: float) -> list[tuple[int, int, np.ndarray]]:
+def _attachments(end: End, node: int, sign: float, winch_center: np.ndarray | None = None
+                 ) -> list[tuple[int, int, np.ndarray]]:
     """(first coordinate, kind, vector) triples of one end condition."""
     out: list[tuple[int, int, np.ndarray]] = []
     if end.type == "free":
         return out
+    if end.type == "winch":
+        return [(6 * node, WINCH_POINT, winch_center)]
     ship = end.frame == "ship"
     out.append((6 * node, SHIP_POINT if ship else FIXED_POINT, np.array(end.position, dtype=float)))
     if end.type == "clamped":
@@ -111,8 +115,8 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
         node_mass[-1, :] = scene.towbody.mass
         f_const[6 * (nn - 1) + 2] -= scene.towbody.mass * g
 
-    att = _attachments(scene.cable.top, 0, "cable.top", 1.0) + \
-        _attachments(scene.cable.bottom, nn - 1, "cable.bottom", -1.0)
+    winch_center = None if scene.winch is None else np.array(scene.winch.position, dtype=float)
+    att = _attachments(scene.cable.top, 0, 1.0, winch_center) + _attachments(scene.cable.bottom, nn - 1, -1.0)
     prescribed = np.zeros(nf, dtype=bool)
     for i0, _, _ in att:
         prescribed[i0:i0 + 3] = True
@@ -133,9 +137,46 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
         att_index=np.array([a[0] for a in att], dtype=np.int64),
         att_kind=np.array([a[1] for a in att], dtype=np.int64),
         att_vec=np.array([a[2] for a in att], dtype=float).reshape(-1, 3),
-        att_radius=np.zeros(len(att)),
+        att_radius=np.array([winch_radius(scene) if kind == WINCH_POINT else 0.0 for _, kind, _ in att]),
         water=water, hydro=build_cable_hydro(scene, mesh, water.enabled), body=build_body(scene, 6 * (nn - 1)),
+        contact=build_contact(scene),
     )
+
+
+def winch_radius(scene: Scene) -> float:
+    """Radius at which the cable centreline wraps the drum: r_w + d/2 of the first segment [m].
+
+    W(120) places the cable end at r_w; the contact surface for the centreline is offset
+    by the cable radius (W(98)), so we fix the end there too: the end then rests on the
+    drum instead of inside it, and the payout per radian of winch rotation is r_w + d/2.
+    """
+    return scene.winch.radius + 0.5 * scene.cable.segments[0].diameter
+
+
+def build_contact(scene: Scene) -> ContactModel:
+    """Contact faces of the drum and the sheave (disabled when the scene has neither)."""
+    faces = []
+    if scene.winch is not None:
+        w = scene.winch
+        faces.append((WINCH, CYLINDER, w.position, w.radius, 0.0, 1.0, 0.0, w.contact))
+    if scene.sheave is not None:
+        sh = scene.sheave
+        if sh.shape == "cylinder":
+            faces.append((SHEAVE, CYLINDER, sh.position, sh.radius, 0.0, 1.0, 0.0, sh.contact))
+        else:
+            half = np.radians(sh.throat_angle) / 2.0
+            for kind in (WALL_PLUS, WALL_MINUS):
+                faces.append((SHEAVE, kind, sh.position, sh.radius, sh.groove_depth, np.cos(half), np.sin(half),
+                              sh.contact))
+    if not faces:
+        return no_contact()
+    return ContactModel(
+        True, np.array([f[0] for f in faces], dtype=np.int64), np.array([f[1] for f in faces], dtype=np.int64),
+        np.array([f[2] for f in faces], dtype=float), np.array([f[3] for f in faces], dtype=float),
+        np.array([f[4] for f in faces], dtype=float), np.array([f[5] for f in faces], dtype=float),
+        np.array([f[6] for f in faces], dtype=float), np.array([f[7].stiffness for f in faces], dtype=float),
+        np.array([f[7].exponent for f in faces], dtype=float), np.array([f[7].damping for f in faces], dtype=float),
+        np.zeros(1, dtype=np.int64))
 
 
 def build_water(scene: Scene) -> WaterModel:

@@ -20,11 +20,14 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from ..contact import cable as cable_contact
+from ..contact.surfaces import ContactModel
 from ..hydro import cable as cable_hydro
 from ..hydro import towbody as body_hydro
 from ..hydro.cable import CableHydro
 from ..hydro.towbody import BodyHydro
 from ..hydro.water import WaterModel
+from ..numerics.banded import band_add_block
 from .axial import axial_force, axial_tangent, slope_derivatives
 
 
@@ -56,6 +59,7 @@ class CableModel(NamedTuple):
     water: WaterModel           #: water, current and turbulence (``enabled`` False: dry scene)
     hydro: CableHydro           #: per-element hydrodynamic properties
     body: BodyHydro             #: towed body in water
+    contact: ContactModel       #: winch drum and sheave faces (``enabled`` False: none)
 
 
 @njit(cache=True)
@@ -117,28 +121,14 @@ def residual(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: 
     for n in range(nn):
         for c in range(3):
             out[6 * n + c] += model.node_mass[n, c] * a[6 * n + c]
+    if model.contact.enabled:
+        cable_contact.add_residual(model.contact, model.el_len, model.hydro.el_d, model.hydro.el_npts, q, v, ship,
+                                   out)
     if model.water.enabled:
         cable_hydro.add_residual(model.water, model.hydro, model.el_len, q, v, a, t, out)
         if model.body.enabled:
             body_hydro.add_residual(model.water, model.body, q, v, a, t, out)
     return energy
-
-
-@njit(cache=True)
-def _scatter(model: CableModel, base: int, ke: np.ndarray, ab: np.ndarray) -> None:
-    """Add a 12x12 element block at coordinates base..base+11 into band storage."""
-    off = model.kl + model.ku
-    for i in range(12):
-        fi = model.free_idx[base + i]
-        if fi < 0:
-            continue
-        for j in range(12):
-            fj = model.free_idx[base + j]
-            if fj < 0:
-                continue
-            val = ke[i, j]
-            if val != 0.0:
-                ab[off + fi - fj, fj] += val
 
 
 @njit(cache=True)
@@ -181,7 +171,7 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
                       d, model.gauss_w, lam, u, cq, ke)
         if wet:
             cable_hydro.add_jacobian(model.water, model.hydro, model.el_len, q, v, t, e, ca, cv, cq, ke)
-        _scatter(model, base, ke, ab)
+        band_add_block(ab, model.kl, model.ku, model.free_idx, base, ke)
     off = model.kl + model.ku
     nn = model.node_mass.shape[0]
     for n in range(nn):
@@ -189,6 +179,9 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
             fi = model.free_idx[6 * n + c]
             if fi >= 0:
                 ab[off, fi] += ca * model.node_mass[n, c]
+    if model.contact.enabled:
+        cable_contact.add_jacobian(model.contact, model.el_len, model.hydro.el_d, model.hydro.el_npts, q, v, ship,
+                                   model.free_idx, model.kl, model.ku, cv, cq, ab)
     if wet and model.body.enabled:
         block = np.zeros((3, 3))
         if body_hydro.add_jacobian(model.water, model.body, q, v, t, ca, cv, block):

@@ -36,6 +36,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from ..ancf.partial import active_quadrature, crossing_stiffness, hermite, interpolate
 from .loading import drag_coefficient, loading_functions
 from .water import WaterModel, mean_flow, turbulence
 
@@ -54,24 +55,6 @@ class CableHydro(NamedTuple):
     el_cm: np.ndarray      #: (ne,) added mass coefficient C_m
     el_npts: np.ndarray    #: (ne,) integration points N_I
     calls: np.ndarray      #: (1,) int64 counter of point evaluations (to verify skipping)
-
-
-@njit(cache=True, inline="always")
-def hermite(xi: float, length: float) -> tuple:
-    """(N_0..N_3, dN_0/dp..dN_3/dp) at xi for an element of length L."""
-    xi2 = xi * xi
-    xi3 = xi2 * xi
-    return (1.0 - 3.0 * xi2 + 2.0 * xi3, length * (xi - 2.0 * xi2 + xi3), 3.0 * xi2 - 2.0 * xi3,
-            length * (xi3 - xi2), (-6.0 * xi + 6.0 * xi2) / length, 1.0 - 4.0 * xi + 3.0 * xi2,
-            (6.0 * xi - 6.0 * xi2) / length, 3.0 * xi2 - 2.0 * xi)
-
-
-@njit(cache=True, inline="always")
-def interpolate(x: np.ndarray, base: int, n0: float, n1: float, n2: float, n3: float) -> tuple:
-    """sum_i n_i x[base + 3 i : base + 3 i + 3] as a 3-tuple."""
-    return (n0 * x[base] + n1 * x[base + 3] + n2 * x[base + 6] + n3 * x[base + 9],
-            n0 * x[base + 1] + n1 * x[base + 4] + n2 * x[base + 7] + n3 * x[base + 10],
-            n0 * x[base + 2] + n1 * x[base + 5] + n2 * x[base + 8] + n3 * x[base + 11])
 
 
 @njit(cache=True, inline="always")
@@ -150,8 +133,7 @@ def _is_dry(w: WaterModel, x: np.ndarray, base: int, length: float) -> bool:
 @njit(cache=True)
 def _quadrature(w: WaterModel, x: np.ndarray, base: int, length: float, npts: int, xi: np.ndarray,
                 wt: np.ndarray, g: np.ndarray, cross: np.ndarray) -> int:
-    """Submerged quadrature points of one element: (xi, weight [m]); returns their count.
-    Points beyond ``npts`` are waterline crossings; ``cross`` holds their interval."""
+    """Submerged quadrature points of one element (indicator: depth below the surface)."""
     for j in range(npts):
         s = j / (npts - 1)
         s2 = s * s
@@ -159,25 +141,7 @@ def _quadrature(w: WaterModel, x: np.ndarray, base: int, length: float, npts: in
         z = ((1.0 - 3.0 * s2 + 2.0 * s3) * x[base + 2] + length * (s - 2.0 * s2 + s3) * x[base + 5]
              + (3.0 * s2 - 2.0 * s3) * x[base + 8] + length * (s3 - s2) * x[base + 11])
         g[j] = w.surface_z - z
-        xi[j] = s
-        wt[j] = 0.0
-    count = npts
-    step = length / (npts - 1)
-    for j in range(npts - 1):
-        ga, gb = g[j], g[j + 1]
-        if ga > 0.0 and gb > 0.0:
-            wt[j] += 0.5 * step
-            wt[j + 1] += 0.5 * step
-        elif ga > 0.0 or gb > 0.0:
-            xi_c = (j + ga / (ga - gb)) / (npts - 1)  # crossing, linear in the height
-            wet = j if ga > 0.0 else j + 1
-            half = 0.5 * abs(xi_c - xi[wet]) * length
-            wt[wet] += half
-            xi[count] = xi_c
-            wt[count] = half
-            cross[count] = j
-            count += 1
-    return count
+    return active_quadrature(length, npts, g, xi, wt, cross)
 
 
 @njit(cache=True)
@@ -279,29 +243,7 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
                         ke[3 * i + c, 3 * j + k] += ca * nn * mass - cv * nn * jac[c, k] - cq * nd * jac[c, 3 + k]
                     ke[3 * i + c, 3 * j + 2] -= cq * nn * jac[c, 6]
     if cq != 0.0:
-        _crossing_stiffness(length, npts, cq, xi, g, cross, fpt, count, ke)
+        dg = np.zeros((npts, 3))
+        dg[:, 2] = -1.0  # g = surface - z
+        crossing_stiffness(length, npts, cq, xi, g, dg, cross, fpt, count, ke)
     hy.calls[0] += 8 * count
-
-
-@njit(cache=True)
-def _crossing_stiffness(length: float, npts: int, cq: float, xi: np.ndarray, g: np.ndarray, cross: np.ndarray,
-                        fpt: np.ndarray, count: int, ke: np.ndarray) -> None:
-    """Stiffness of the moving waterline crossings: the wet length of a crossed interval
-    changes with the heights of the element's nodes (buoyancy acts like a spring there)."""
-    for p in range(npts, count):
-        j = cross[p]
-        ga, gb = g[j], g[j + 1]
-        wet = j if ga > 0.0 else j + 1
-        dl = length if wet == j else -length  # d(wet length) / d(xi_c)
-        denom = (ga - gb) ** 2 * (npts - 1)
-        na = hermite(j / (npts - 1), length)
-        nb = hermite((j + 1) / (npts - 1), length)
-        nw = hermite(xi[wet], length)
-        nc = hermite(xi[p], length)
-        # d xi_c / d z_i for the z-coordinate of nodal slot i (g = surface - z)
-        for i in range(4):
-            dxi = (gb * na[i] - ga * nb[i]) / denom
-            for k in range(4):
-                for c in range(3):
-                    dq = 0.5 * dl * (nw[k] * fpt[wet, c] + nc[k] * fpt[p, c])
-                    ke[3 * k + c, 3 * i + 2] -= cq * dq * dxi

@@ -16,9 +16,31 @@ from numba import njit
 
 
 @njit(cache=True)
-def band_add(ab: np.ndarray, kl: int, ku: int, i: int, j: int, value: float) -> None:
-    """Add ``value`` to ``A[i, j]`` (no bounds check beyond the band: caller's duty)."""
-    ab[kl + ku + i - j, j] += value
+def band_add_block(ab: np.ndarray, kl: int, ku: int, free_idx: np.ndarray, base: int, block: np.ndarray) -> None:
+    """Add a square block acting on coordinates base.. to the banded matrix of the unknowns.
+
+    Parameters
+    ----------
+    free_idx
+        Unknown index of every coordinate (-1: prescribed, skipped).
+    base
+        First coordinate of the block.
+    block
+        Square block (k, k) over coordinates base .. base + k - 1.
+    """
+    off = kl + ku
+    k = block.shape[0]
+    for i in range(k):
+        fi = free_idx[base + i]
+        if fi < 0:
+            continue
+        for j in range(k):
+            fj = free_idx[base + j]
+            if fj < 0:
+                continue
+            val = block[i, j]
+            if val != 0.0:
+                ab[off + fi - fj, fj] += val
 
 
 @njit(cache=True)

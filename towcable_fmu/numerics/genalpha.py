@@ -16,7 +16,9 @@ enforced at t_{n+1}, so forces need no mid-point evaluation.
 Newton iterates on ``a_{n+1}`` with the iteration matrix ``M + gamma' C + beta' K``
 (``gamma' = h gamma (1-af)/(1-am)``, ``beta' = h^2 beta (1-af)/(1-am)``), factorised
 once and reused over steps while convergence is fast (modified Newton); it is
-refreshed when convergence slows, the step size changes, or it is too old.
+refreshed after a step that needed four or more iterations or contracted slowly
+(estimated remaining-error factor above 1), when the step size changes by more than
+5 %, or when it is too old.
 Convergence test (Hairer & Wanner): the estimated remaining error
 ``theta/(1-theta) * |dq|`` is below ``newton_tol``, with the contraction rate theta of
 the previous step used on the first iteration; ``|dq|`` is the largest correction
@@ -371,6 +373,9 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
         return 1
     st.jac[JAC_ETA] = eta
     st.jac[JAC_AGE] += 1.0
+    if it >= 3 or eta > 1.0:
+        # slow contraction: the iteration matrix has gone stale; refresh it for the next step
+        st.jac[JAC_AGE] = opt.jac_max_age
     # local error estimate (Zienkiewicz-Xie), weighted max norm over free coordinates
     c = h * h * abs(beta - 1.0 / 6.0)
     err = 0.0

@@ -11,8 +11,8 @@ downhill and the iteration cannot settle on a saddle such as a straight cable in
 compression. After an accepted step ``tau`` grows by the factor the residual
 fell (switched evolution relaxation, Mulder & van Leer 1985; Kelley & Keyes 1998),
 and at least twofold; a step that increases the residual tenfold, or produces
-non-finite values, is rejected and ``tau`` shrinks fourfold. Position changes per
-iteration are capped at half the shortest element.
+non-finite values, is rejected and ``tau`` shrinks fourfold. A node moves at most
+half the length of its elements per iteration.
 """
 
 from __future__ import annotations
@@ -90,7 +90,7 @@ def _ptc(model: CableModel, q: np.ndarray, ship: np.ndarray, t: float, tolerance
             tau *= 0.25  # keep K + M/tau positive definite: descend, never climb to a saddle
             continue
         band_solve(ab, n, model.kl, model.ku, ipiv, rhs)
-        biggest = np.abs(rhs[position_dof]).max(initial=0.0)
+        biggest = np.abs(rhs[position_dof] * model.free_scale[position_dof]).max(initial=0.0)
         if biggest > move_limit:
             rhs *= move_limit / biggest
         trial = q.copy()
@@ -133,7 +133,8 @@ def solve_statics(model: CableModel, q0: np.ndarray, ship: np.ndarray, phi: np.n
     tau0
         Initial pseudo time step [s^2].
     max_move
-        Largest position change per iteration [m] (default: half the shortest element).
+        Largest position change of a node per iteration, relative to the length of its
+        elements (default 0.5).
 
     Returns
     -------
@@ -153,7 +154,7 @@ def solve_statics(model: CableModel, q0: np.ndarray, ship: np.ndarray, phi: np.n
     a = np.zeros_like(q)
     apply_prescribed(model.att_index, model.att_kind, model.att_vec, model.att_radius, ship_static, phi_static,
                      q, v, a)
-    move_limit = 0.5 * float(model.el_len.min()) if max_move is None else max_move
+    move_limit = 0.5 if max_move is None else max_move
     slack_model = model._replace(el_tension_only=np.ones_like(model.el_tension_only))
     q, it1, _, _, _ = _ptc(slack_model, q, ship_static, t, max(tolerance, 1e-4), max_iterations, tau0, move_limit)
     q, it2, norm, scale, converged = _ptc(model, q, ship_static, t, tolerance, max_iterations, tau0, move_limit)

@@ -53,9 +53,10 @@ class Segment:
 class End:
     """Boundary condition at one end of the cable."""
 
-    type: str = spec("free", choices=("pinned", "clamped", "free"),
+    type: str = spec("free", choices=("pinned", "clamped", "free", "winch"),
                      doc="pinned: position prescribed, slope free; clamped: position and slope "
-                         "prescribed; free: no constraint (a towed body may hang there)")
+                         "prescribed; free: no constraint (a towed body may hang there); winch: fixed "
+                         "to the winch drum at its rotation phi, W(120) (top end only)")
     frame: str = spec("inertial", choices=("inertial", "ship"),
                       doc="frame of 'position': fixed in the inertial frame or moving with the ship")
     position: tuple[float, ...] | None = spec(None, unit="m", length=3,
@@ -67,6 +68,9 @@ class End:
 
     def validate(self, key: str) -> None:
         """Cross-field checks."""
+        if self.type == "winch" and self.position is not None:
+            raise SceneError(f"{key}.position", list(self.position), "no position for a winch end (the drum "
+                                                                     "and its rotation place it)")
         if self.type in ("pinned", "clamped") and self.position is None:
             raise SceneError(f"{key}.position", None, f"a list of 3 numbers [m] (required for type = '{self.type}')")
         if self.type == "clamped":
@@ -83,7 +87,9 @@ class InitialShape:
     shape: str = spec("auto", choices=("auto", "straight", "sag"),
                       doc="auto: 'sag' between two prescribed ends, else 'straight'; straight: along "
                           "'direction' from the top end (with a prescribed bottom end: along the chord, "
-                          "compressed or stretched to fit); sag: a parabola between the two ends")
+                          "compressed or stretched to fit); sag: a parabola between the two ends. A cable "
+                          "on a winch is first wrapped around the drum and over the sheave, then continues "
+                          "along 'direction'")
     direction: tuple[float, ...] = spec([0.0, 0.0, -1.0], unit="-", length=3,
                                         doc="direction of a straight initial cable from its top end")
     sag_direction: tuple[float, ...] = spec([0.0, 0.0, -1.0], unit="-", length=3,
@@ -104,6 +110,8 @@ class Cable:
         if self.bottom.type == "free" and self.bottom.position is not None:
             raise SceneError(f"{key}.bottom.position", list(self.bottom.position),
                              "no position for a free bottom end (the initial shape places it)")
+        if self.bottom.type == "winch":
+            raise SceneError(f"{key}.bottom.type", "winch", "a winch at the top end only")
         if self.top.type == "free" and self.bottom.type != "free":
             raise SceneError(f"{key}.top.type", "free", "'pinned' or 'clamped' (the cable hangs from its top end; "
                                                         "to hold only the lower end, swap the ends)")
@@ -119,6 +127,43 @@ class Cable:
     def length(self) -> float:
         """Total unstretched length [m]."""
         return sum(s.length for s in self.segments)
+
+
+@dataclasses.dataclass(frozen=True)
+class ContactLaw:
+    """Penalty contact after Hunt and Crossley, W(93): force per unit length
+    ``k delta^n (1 + D d(delta)/dt)`` along the surface normal, never pulling."""
+
+    stiffness: float = spec(1e6, unit="N/m^(1+n)", gt=0.0,
+                            doc="k_N (the reference quotes it in N/m; with delta in m and n = 1.5)")
+    exponent: float = spec(1.5, unit="-", ge=1.0, le=3.0, doc="n")
+    damping: float = spec(0.0, unit="s/m", ge=0.0, doc="D")
+
+
+@dataclasses.dataclass(frozen=True)
+class Winch:
+    """The winch drum (a cylinder about the ship's Y axis, W(99)) and its PD drive W(136)."""
+
+    position: tuple[float, ...] = spec(unit="m", length=3, doc="drum centre s_w in the ship body frame")
+    radius: float = spec(unit="m", gt=0.0, doc="drum radius r_w; the cable centreline wraps at r_w + d/2")
+    phi_nom: float = spec(unit="rad", doc="nominal rotation of the cable end from the top of the drum, "
+                                          "increasing towards +X (reels in)")
+    kp: float = spec(unit="1/s^2", ge=0.0, doc="proportional gain k_1 of the PD drive")
+    kd: float = spec(unit="1/s", ge=0.0, doc="derivative gain k_2 of the PD drive")
+    contact: ContactLaw = spec(ContactLaw(), doc="cable-drum contact")
+
+
+@dataclasses.dataclass(frozen=True)
+class Sheave:
+    """The sheave: a grooved wheel about the ship's Y axis (W(94)-(102)), or a plain pulley."""
+
+    position: tuple[float, ...] = spec(unit="m", length=3, doc="sheave centre s_s in the ship body frame")
+    radius: float = spec(unit="m", gt=0.0, doc="radius to the root of the groove")
+    shape: str = spec("groove", choices=("groove", "cylinder"),
+                      doc="groove: two walls meeting at the groove centre, W(100); cylinder: a plain pulley")
+    groove_depth: float = spec(0.01, unit="m", gt=0.0, doc="h_g: no force above this height, W(101)")
+    throat_angle: float = spec(60.0, unit="deg", gt=0.0, lt=180.0, doc="theta_g: angle between the walls")
+    contact: ContactLaw = spec(ContactLaw(), doc="cable-sheave contact")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -227,7 +272,7 @@ class SolverSettings:
     adaptive: bool = spec(False, doc="adapt the step to keep the local error estimate below rtol/atol")
     rtol: float = spec(1e-3, unit="-", gt=0.0, lt=1.0, doc="relative local error tolerance (adaptive mode)")
     atol: float = spec(1e-4, unit="m", gt=0.0, doc="absolute local error tolerance (adaptive mode)")
-    newton_tol: float = spec(1e-9, unit="-", gt=0.0, le=1e-2,
+    newton_tol: float = spec(1e-8, unit="-", gt=0.0, le=1e-2,
                              doc="Newton stops when the estimated remaining correction (positions relative "
                                  "to the element length, slopes absolute) is below this; the tension error "
                                  "it allows is about EA times this")
@@ -263,6 +308,11 @@ class Scene:
     description: str = spec("", doc="what the scene is and where its numbers come from")
     environment: Environment = spec(Environment(), doc="gravity")
     water: Water | None = spec(None, doc="water (absent: the scene is in air, no hydrodynamics)")
+    winch: Winch | None = spec(None, doc="winch drum and drive (the cable's top end is on it: type 'winch')")
+    sheave: Sheave | None = spec(None, doc="sheave or pulley the cable runs over")
+    compensation: dict | None = spec(None, doc="heave-compensation set-point algorithm for runs driven by the "
+                                               "scene's own motion (see controllers/README.md); winch radius, "
+                                               "phi_nom and the sheave position default to the scene's")
     towbody: TowBody | None = spec(None, doc="lumped towed body at the bottom end (bottom must be free)")
     motion: dict | None = spec(None, doc="ship motion (see ship_motion/README.md); none: the ship is still")
     solver: SolverSettings = spec(SolverSettings(), doc="time integration")
@@ -273,6 +323,10 @@ class Scene:
 
     def validate(self, key: str) -> None:
         """Cross-section checks."""
+        if (self.cable.top.type == "winch") != (self.winch is not None):
+            raise SceneError("cable.top.type", self.cable.top.type, "'winch' exactly when a [winch] is given")
+        if self.compensation is not None and self.winch is None:
+            raise SceneError("compensation", self.compensation, "absent without a [winch]")
         if self.free_floating and self.statics.enabled:
             raise SceneError("statics.enabled", True, "false when both cable ends are free (a falling or "
                                                       "drifting cable has no static equilibrium)")

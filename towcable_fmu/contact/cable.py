@@ -1,0 +1,294 @@
+"""Contact forces on the cable, integrated along each element, W(103)-(106).
+
+Each face has its own partial quadrature (W(105): "each contact surface has a distinct
+set of quadrature weights"), with the crossing of the contact boundary located by
+linear interpolation of the face indicator (:mod:`towcable_fmu.ancf.partial`). Only
+elements that can reach a surface are evaluated: the Bezier control points of an element
+bound it, and an element whose bounding sphere stays outside the groove top (or the
+drum) is skipped.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..ancf.partial import active_quadrature, crossing_stiffness, hermite, interpolate
+from ..kinematics import rotation_derivatives
+from ..numerics.banded import band_add_block
+from .surfaces import ContactModel, face_force
+
+_MARGIN = 1e-3  # [m] added to the reach of a surface when culling elements
+
+
+@njit(cache=True, inline="always")
+def _to_ship(c: ContactModel, f: int, rot: np.ndarray, ship: np.ndarray, px: float, py: float, pz: float) -> tuple:
+    """Inertial point -> ship frame relative to face f's centre."""
+    dx, dy, dz = px - ship[0, 0], py - ship[0, 1], pz - ship[0, 2]
+    return (rot[0, 0] * dx + rot[1, 0] * dy + rot[2, 0] * dz - c.face_center[f, 0],
+            rot[0, 1] * dx + rot[1, 1] * dy + rot[2, 1] * dz - c.face_center[f, 1],
+            rot[0, 2] * dx + rot[1, 2] * dy + rot[2, 2] * dz - c.face_center[f, 2])
+
+
+@njit(cache=True)
+def _reaches(c: ContactModel, f: int, half_d: float, x: np.ndarray, base: int, length: float, rot: np.ndarray,
+             ship: np.ndarray) -> bool:
+    """Can element (coordinates at base) touch face f? Bounding sphere of its Bezier polygon."""
+    k = length / 3.0
+    ax, ay, az = _to_ship(c, f, rot, ship, x[base], x[base + 1], x[base + 2])
+    bx, by, bz = _to_ship(c, f, rot, ship, x[base] + k * x[base + 3], x[base + 1] + k * x[base + 4],
+                          x[base + 2] + k * x[base + 5])
+    cx, cy, cz = _to_ship(c, f, rot, ship, x[base + 6] - k * x[base + 9], x[base + 7] - k * x[base + 10],
+                          x[base + 8] - k * x[base + 11])
+    dx, dy, dz = _to_ship(c, f, rot, ship, x[base + 6], x[base + 7], x[base + 8])
+    mx = 0.25 * (ax + bx + cx + dx)
+    my = 0.25 * (ay + by + cy + dy)
+    mz = 0.25 * (az + bz + cz + dz)
+    radius = math.sqrt(max(max((ax - mx) ** 2 + (ay - my) ** 2 + (az - mz) ** 2,
+                               (bx - mx) ** 2 + (by - my) ** 2 + (bz - mz) ** 2),
+                           max((cx - mx) ** 2 + (cy - my) ** 2 + (cz - mz) ** 2,
+                               (dx - mx) ** 2 + (dy - my) ** 2 + (dz - mz) ** 2)))
+    reach = c.face_radius[f] + half_d + c.face_depth[f] + _MARGIN
+    return math.sqrt(mx * mx + mz * mz) - radius <= reach
+
+
+@njit(cache=True, inline="always")
+def _ship_point(c: ContactModel, f: int, rot: np.ndarray, rot1: np.ndarray, ship: np.ndarray,
+                rx: float, ry: float, rz: float, vx: float, vy: float, vz: float) -> tuple:
+    """Ship-frame position relative to face f's centre and velocity relative to the ship."""
+    dx, dy, dz = rx - ship[0, 0], ry - ship[0, 1], rz - ship[0, 2]
+    ux, uy, uz = vx - ship[1, 0], vy - ship[1, 1], vz - ship[1, 2]
+    sx = rot[0, 0] * dx + rot[1, 0] * dy + rot[2, 0] * dz - c.face_center[f, 0]
+    sy = rot[0, 1] * dx + rot[1, 1] * dy + rot[2, 1] * dz - c.face_center[f, 1]
+    sz = rot[0, 2] * dx + rot[1, 2] * dy + rot[2, 2] * dz - c.face_center[f, 2]
+    wx = rot[0, 0] * ux + rot[1, 0] * uy + rot[2, 0] * uz + rot1[0, 0] * dx + rot1[1, 0] * dy + rot1[2, 0] * dz
+    wy = rot[0, 1] * ux + rot[1, 1] * uy + rot[2, 1] * uz + rot1[0, 1] * dx + rot1[1, 1] * dy + rot1[2, 1] * dz
+    wz = rot[0, 2] * ux + rot[1, 2] * uy + rot[2, 2] * uz + rot1[0, 2] * dx + rot1[1, 2] * dy + rot1[2, 2] * dz
+    return sx, sy, sz, wx, wy, wz
+
+
+@njit(cache=True, inline="always")
+def _inertial_force(c: ContactModel, f: int, half_d: float, rot: np.ndarray, rot1: np.ndarray, ship: np.ndarray,
+                    rx: float, ry: float, rz: float, vx: float, vy: float, vz: float) -> tuple:
+    """Face force per unit length in the inertial frame, W(102), and the indicator."""
+    sx, sy, sz, wx, wy, wz = _ship_point(c, f, rot, rot1, ship, rx, ry, rz, vx, vy, vz)
+    fx, fy, fz, g = face_force(c, f, half_d, sx, sy, sz, wx, wy, wz)
+    return (rot[0, 0] * fx + rot[0, 1] * fy + rot[0, 2] * fz, rot[1, 0] * fx + rot[1, 1] * fy + rot[1, 2] * fz,
+            rot[2, 0] * fx + rot[2, 1] * fy + rot[2, 2] * fz, g)
+
+
+@njit(cache=True)
+def _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, xi, wt, g, cross, fpt):
+    """Active quadrature of face f on one element; forces at all its points into ``fpt``."""
+    for j in range(npts):
+        n = hermite(j / (npts - 1), length)
+        rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
+        vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
+        fpt[j, 0], fpt[j, 1], fpt[j, 2], g[j] = _inertial_force(c, f, half_d, rot, rot1, ship, rx, ry, rz,
+                                                                vx, vy, vz)
+    count = active_quadrature(length, npts, g, xi, wt, cross)
+    for p in range(npts, count):
+        n = hermite(xi[p], length)
+        rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
+        vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
+        fpt[p, 0], fpt[p, 1], fpt[p, 2], _ = _inertial_force(c, f, half_d, rot, rot1, ship, rx, ry, rz, vx, vy, vz)
+    return count
+
+
+@njit(cache=True)
+def add_residual(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_npts: np.ndarray, q: np.ndarray,
+                 v: np.ndarray, ship: np.ndarray, out: np.ndarray) -> None:
+    """Subtract the generalised contact forces of every element that touches a face."""
+    rot, rot1, _ = rotation_derivatives(ship)
+    m = 2 * el_npts.max()
+    xi = np.empty(m)
+    wt = np.empty(m)
+    g = np.empty(m)
+    cross = np.empty(m, dtype=np.int64)
+    fpt = np.empty((m, 3))
+    evaluations = 0
+    for e in range(el_len.shape[0]):
+        base = 6 * e
+        length = el_len[e]
+        half_d = 0.5 * el_d[e]
+        npts = el_npts[e]
+        for f in range(c.face_kind.shape[0]):
+            if not _reaches(c, f, half_d, q, base, length, rot, ship):
+                continue
+            count = _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, xi, wt, g, cross, fpt)
+            evaluations += count
+            for p in range(count):
+                wp = wt[p]
+                if wp == 0.0:
+                    continue
+                n = hermite(xi[p], length)
+                for i in range(4):
+                    k = wp * n[i]
+                    out[base + 3 * i] -= k * fpt[p, 0]
+                    out[base + 3 * i + 1] -= k * fpt[p, 1]
+                    out[base + 3 * i + 2] -= k * fpt[p, 2]
+    c.calls[0] += evaluations
+
+
+@njit(cache=True)
+def add_jacobian(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_npts: np.ndarray, q: np.ndarray,
+                 v: np.ndarray, ship: np.ndarray, free_idx: np.ndarray, kl: int, ku: int, cv: float, cq: float,
+                 ab: np.ndarray) -> None:
+    """Add the contact part of ``cv C + cq K`` to the banded iteration matrix ``ab``.
+
+    Derivatives of the point force with respect to the point position and velocity by
+    finite differences; the stiffness of the moving contact boundary from the derivative
+    of the active length (:func:`towcable_fmu.ancf.partial.crossing_stiffness`).
+    """
+    rot, rot1, _ = rotation_derivatives(ship)
+    m = 2 * el_npts.max()
+    xi = np.empty(m)
+    wt = np.empty(m)
+    g = np.empty(m)
+    cross = np.empty(m, dtype=np.int64)
+    fpt = np.zeros((m, 3))
+    dg = np.zeros((m, 3))
+    jac = np.empty((3, 6))
+    state = np.empty(6)
+    ke = np.empty((12, 12))
+    for e in range(el_len.shape[0]):
+        base = 6 * e
+        length = el_len[e]
+        half_d = 0.5 * el_d[e]
+        npts = el_npts[e]
+        touched = False
+        for f in range(c.face_kind.shape[0]):
+            if not _reaches(c, f, half_d, q, base, length, rot, ship):
+                continue
+            count = _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, xi, wt, g, cross, fpt)
+            active = False
+            for p in range(npts):
+                active = active or wt[p] > 0.0
+            if not active:
+                continue
+            if not touched:
+                ke[:, :] = 0.0
+                touched = True
+            for p in range(count):
+                wp = wt[p]
+                # derivatives where the load acts, and the indicator gradient where a crossing needs it
+                needs_dg = p < npts and ((p > 0 and (g[p - 1] > 0.0) != (g[p] > 0.0))
+                                         or (p < npts - 1 and (g[p + 1] > 0.0) != (g[p] > 0.0)))
+                if wp == 0.0 and not needs_dg:
+                    continue
+                n = hermite(xi[p], length)
+                rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
+                vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
+                f0 = _inertial_force(c, f, half_d, rot, rot1, ship, rx, ry, rz, vx, vy, vz)
+                base_state = (rx, ry, rz, vx, vy, vz)
+                for k in range(6):
+                    for j in range(6):
+                        state[j] = base_state[j]
+                    h = 1e-8 * max(1.0, abs(state[k]))
+                    state[k] += h
+                    fk = _inertial_force(c, f, half_d, rot, rot1, ship, state[0], state[1], state[2],
+                                         state[3], state[4], state[5])
+                    for d in range(3):
+                        jac[d, k] = (fk[d] - f0[d]) / h
+                    if k < 3:
+                        dg[p, k] = (fk[3] - f0[3]) / h
+                if wp == 0.0:
+                    continue
+                for i in range(4):
+                    for j in range(4):
+                        nn = wp * n[i] * n[j]
+                        for d in range(3):
+                            for k in range(3):
+                                ke[3 * i + d, 3 * j + k] -= nn * (cq * jac[d, k] + cv * jac[d, 3 + k])
+            if cq != 0.0:
+                crossing_stiffness(length, npts, cq, xi, g, dg, cross, fpt, count, ke)
+        if touched:
+            band_add_block(ab, kl, ku, free_idx, base, ke)
+
+
+@njit(cache=True)
+def surface_summary(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_npts: np.ndarray, q: np.ndarray,
+                    v: np.ndarray, ship: np.ndarray, force: np.ndarray, span: np.ndarray, ends: np.ndarray,
+                    lowest: np.ndarray, dist: np.ndarray) -> int:
+    """What touches what: totals and the force distribution, for the outputs.
+
+    Parameters (all outputs, per surface s = WINCH, SHEAVE)
+    -------------------------------------------------------
+    force
+        (2, 3) total contact force on the cable, inertial frame [N].
+    span
+        (2, 2) smallest and largest angle psi = atan2(X, Z) of an active point [rad]
+        (NaN when nothing touches).
+    ends
+        (2, 4) element index and xi of the first and of the last touching point along the
+        cable (element -1 when nothing touches): where the cable meets and leaves the surface.
+    lowest
+        (2,) smallest height h of a cable point above its seated position over the
+        upper half of the surface (Z >= 0) [m] (inf when no point is there).
+    dist
+        (k, 3) rows (surface, psi [rad], force per unit length [N/m]) of active points.
+
+    Returns
+    -------
+    int
+        Number of rows written to ``dist``.
+    """
+    rot, rot1, _ = rotation_derivatives(ship)
+    force[:, :] = 0.0
+    span[:, 0] = np.inf
+    span[:, 1] = -np.inf
+    ends[:, 0] = -1.0
+    ends[:, 2] = -1.0
+    lowest[:] = np.inf
+    m = 2 * el_npts.max()
+    xi = np.empty(m)
+    wt = np.empty(m)
+    g = np.empty(m)
+    cross = np.empty(m, dtype=np.int64)
+    fpt = np.empty((m, 3))
+    rows = 0
+    for e in range(el_len.shape[0]):
+        base = 6 * e
+        length = el_len[e]
+        half_d = 0.5 * el_d[e]
+        npts = el_npts[e]
+        for f in range(c.face_kind.shape[0]):
+            if not _reaches(c, f, half_d, q, base, length, rot, ship):
+                continue
+            s = c.face_surface[f]
+            count = _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, xi, wt, g, cross, fpt)
+            for p in range(count):
+                n = hermite(xi[p], length)
+                rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
+                vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
+                sx, sy, sz, _, _, _ = _ship_point(c, f, rot, rot1, ship, rx, ry, rz, vx, vy, vz)
+                if p < npts and sz >= 0.0:
+                    lowest[s] = min(lowest[s], math.sqrt(sx * sx + sz * sz) - (c.face_radius[f] + half_d))
+                wp = wt[p]
+                if wp == 0.0:
+                    continue
+                fx, fy, fz = fpt[p, 0], fpt[p, 1], fpt[p, 2]
+                force[s, 0] += wp * fx
+                force[s, 1] += wp * fy
+                force[s, 2] += wp * fz
+                psi = math.atan2(sx, sz)
+                span[s, 0] = min(span[s, 0], psi)
+                span[s, 1] = max(span[s, 1], psi)
+                if ends[s, 0] < 0 or e < ends[s, 0] or (e == ends[s, 0] and xi[p] < ends[s, 1]):
+                    ends[s, 0] = e
+                    ends[s, 1] = xi[p]
+                if e > ends[s, 2] or (e == ends[s, 2] and xi[p] > ends[s, 3]):
+                    ends[s, 2] = e
+                    ends[s, 3] = xi[p]
+                if rows < dist.shape[0]:
+                    dist[rows, 0] = s
+                    dist[rows, 1] = psi
+                    dist[rows, 2] = math.sqrt(fx * fx + fy * fy + fz * fz)
+                    rows += 1
+    for s in range(2):
+        if span[s, 0] > span[s, 1]:
+            span[s, 0] = np.nan
+            span[s, 1] = np.nan
+    return rows

@@ -1,0 +1,327 @@
+"""Base class of the three FMU slaves: variables from the contract, errors as FMI statuses.
+
+pythonfmu 0.7 turns any Python exception that leaves a slave method into ``fmi2Fatal``
+and releases the Python instance (later calls on it are undefined). The slaves must
+therefore never raise: :class:`ContractSlave` wraps every entry point, logs the reason
+through the FMU logger (the host sees it when logging is on) and
+
+* returns ``False`` from ``do_step`` (``fmi2Discard``) for a step that cannot be done:
+  non-finite inputs, a step size <= 0, a communication point that is not the model's
+  time, a solver failure — the outputs keep their last valid values (never NaN);
+* for a failed initialisation (unknown scene, out-of-range parameter), logs the message
+  with status ``fmi2Error`` from ``exit_initialization_mode`` and refuses every later
+  step with ``fmi2Discard``. (pythonfmu 0.7 offers no way to return ``fmi2Error`` from
+  Python: its C layer returns ``fmi2OK`` or, on an exception, ``fmi2Fatal``.)
+
+Subclasses set ``fmu_name`` (a key of ``[fmus]`` in the contract) and implement
+``_initialize()``, ``_step(t, dt)`` and optionally ``_model_state()`` /
+``_restore_model_state()`` and ``_inputs_changed()``.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import traceback
+from typing import Any, Callable, ClassVar
+
+import numpy as np
+from pythonfmu import Boolean, Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer, Real, String
+from pythonfmu.enums import Fmi2Status
+
+from .. import contract
+from ..errors import TowcableError
+
+_TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
+_CAST: dict[str, Callable[[Any], Any]] = {"Real": float, "Integer": int, "Boolean": bool, "String": str}
+
+#: Version written to every modelDescription.xml.
+MODEL_VERSION = "0.1.0"
+
+
+def ship_signal_names() -> tuple[str, ...]:
+    """The 18 ``ship.*`` signals of the contract in ship-state order: row k of the
+    (3, 6) state (value, rate, acceleration), columns x, y, z, roll, pitch, yaw."""
+    names = tuple(n for n in contract.signals() if n.startswith("ship."))
+    if len(names) != 18:
+        raise ValueError(f"the contract must list 18 ship.* signals, found {len(names)}")
+    return names
+
+
+def ship_state(values: dict[str, Any], names: tuple[str, ...] | None = None) -> np.ndarray:
+    """Ship state (3, 6) from named values; signals that are not given are 0."""
+    names = ship_signal_names() if names is None else names
+    state = np.zeros(18)
+    for k, name in enumerate(ship_signal_names()):
+        if name in names:
+            state[k] = float(values[name])
+    return state.reshape(3, 6)
+
+
+def parse_overrides(text: str) -> list[tuple[str, Any]]:
+    """``KEY=VALUE`` items separated by ``;`` or new lines (values in TOML syntax).
+
+    A ``;`` inside brackets or quotes does not separate items.
+    """
+    from ..scene import parse_override
+
+    items, depth, quote, current = [], 0, "", []
+    for ch in text:
+        if quote:
+            quote = "" if ch == quote else quote
+        elif ch in "\"'":
+            quote = ch
+        elif ch in "[{":
+            depth += 1
+        elif ch in "]}":
+            depth -= 1
+        elif depth == 0 and ch in ";\n":
+            items.append("".join(current))
+            current = []
+            continue
+        current.append(ch)
+    items.append("".join(current))
+    return [parse_override(item.strip()) for item in items if item.strip()]
+
+
+class ContractSlave(Fmi2Slave):
+    """A pythonfmu slave whose variables are those of one FMU of the contract.
+
+    Variable values live in ``self.values`` (name -> value). Value references follow
+    the contract order: parameters, inputs, outputs.
+    """
+
+    #: Key of ``[fmus]`` in the contract.
+    fmu_name: ClassVar[str] = ""
+
+    def __init__(self, **kwargs) -> None:
+        super().__init__(**kwargs)
+        spec = contract.fmu(self.fmu_name)
+        self.spec = spec
+        self.modelName = spec.name
+        self.description = spec.description
+        self.author = "towcable"
+        self.version = MODEL_VERSION
+        self.license = "MIT"
+        self.values: dict[str, Any] = {}
+        self.start_time = 0.0
+        self.initialized = False
+        self.failed: str | None = None
+        self.in_initialization = False
+        self._model_time = 0.0
+        for var in spec.variables:
+            self.values[var.name] = var.start if var.start is not None else _CAST[var.type](0)
+            self.register_variable(self._scalar(var), nested=False)
+        self._real_outputs = [v.name for v in spec.outputs if v.type == "Real"]
+
+    # ------------------------------------------------------------ registration
+    def _scalar(self, var: contract.Variable):
+        name, cast = var.name, _CAST[var.type]
+        values = self.values
+
+        def getter():
+            return values[name]
+
+        kw: dict[str, Any] = {"description": var.description}
+        if var.causality == "parameter":
+            kw["causality"] = Fmi2Causality.parameter
+            kw["variability"] = Fmi2Variability.tunable if var.type == "String" else Fmi2Variability.fixed
+            kw["initial"] = Fmi2Initial.exact
+
+            def setter(value):
+                if self.initialized and var.type != "String":
+                    self.log(f"parameter '{name}' is fixed after initialisation; the new value is ignored",
+                             Fmi2Status.warning)
+                    return
+                if self.initialized:
+                    self.log(f"parameter '{name}' takes effect only at initialisation; the new value "
+                             "is ignored", Fmi2Status.warning)
+                    return
+                values[name] = cast(value)
+        elif var.causality == "input":
+            kw["causality"] = Fmi2Causality.input
+            kw["variability"] = Fmi2Variability.discrete if var.type == "Boolean" else Fmi2Variability.continuous
+
+            def setter(value):
+                values[name] = cast(value)
+        else:
+            kw["causality"] = Fmi2Causality.output
+            kw["variability"] = Fmi2Variability.discrete if var.type == "Boolean" else Fmi2Variability.continuous
+            kw["initial"] = Fmi2Initial.exact
+
+            def setter(value):
+                self.log(f"'{name}' is an output and cannot be set", Fmi2Status.warning)
+        return _TYPES[var.type](name, getter=getter, setter=setter, **kw)
+
+    # ------------------------------------------------------------ logging
+    def log_error(self, message: str, status: Fmi2Status = Fmi2Status.error) -> None:
+        """Log a message for the host (category from the status)."""
+        self.log(f"{self.instance_name}: {message}", status)
+
+    def _guard(self, what: str, fn: Callable[[], Any], default: Any = None, status=Fmi2Status.error) -> Any:
+        """Run ``fn``; on any exception log it and return ``default`` (never raise to pythonfmu)."""
+        try:
+            return fn()
+        except TowcableError as exc:
+            self.log_error(f"{what}: {exc}", status)
+        except Exception as exc:  # noqa: BLE001 - nothing may reach pythonfmu's C layer
+            self.log_error(f"{what}: unexpected {type(exc).__name__}: {exc}\n{traceback.format_exc()}", status)
+        return default
+
+    def timed(self, fn: Callable[..., Any], *args, **kwargs) -> Any:
+        """Call the model's own computation and add its wall time to ``model_wall_time``."""
+        t0 = time.perf_counter()
+        try:
+            return fn(*args, **kwargs)
+        finally:
+            self._model_time += time.perf_counter() - t0
+            if "model_wall_time" in self.values:
+                self.values["model_wall_time"] = self._model_time
+
+    # ------------------------------------------------------------ FMI entry points
+    def setup_experiment(self, start_time: float, stop_time=None, tolerance=None) -> None:
+        self.start_time = float(start_time)
+
+    def enter_initialization_mode(self) -> None:
+        self.in_initialization = True
+        self._guard("inputs", self._inputs_changed, status=Fmi2Status.warning)
+
+    def exit_initialization_mode(self) -> None:
+        def run():
+            if not math.isfinite(self.start_time):
+                raise ValueError(f"start time {self.start_time} is not finite")
+            self._initialize()
+            return True
+
+        ok = self._guard("initialisation failed", run, default=False)
+        self.in_initialization = False
+        if ok:
+            self.initialized = True
+            self.failed = None
+        else:
+            self.failed = "initialisation failed (see the previous message); the FMU cannot step"
+
+    def do_step(self, current_time: float, step_size: float) -> bool:
+        def run():
+            if self.failed is not None:
+                self.log_error(self.failed)
+                return False
+            if not self.initialized:
+                self.log_error("do_step before exit_initialization_mode")
+                return False
+            if not (math.isfinite(step_size) and step_size > 0.0):
+                self.log_error(f"communication step size {step_size!r} is invalid: allowed a finite step > 0 s",
+                               Fmi2Status.discard)
+                return False
+            if not math.isfinite(current_time):
+                self.log_error(f"communication point {current_time!r} is not finite", Fmi2Status.discard)
+                return False
+            return bool(self._step(float(current_time), float(step_size)))
+
+        return bool(self._guard(f"step from t = {current_time:.6g} s by {step_size:.6g} s failed", run,
+                                default=False, status=Fmi2Status.discard))
+
+    def terminate(self) -> None:
+        pass
+
+    def get_real(self, vrs):
+        return self._guard("getReal", lambda: super(ContractSlave, self).get_real(vrs), default=[0.0] * len(vrs))
+
+    def get_integer(self, vrs):
+        return self._guard("getInteger", lambda: super(ContractSlave, self).get_integer(vrs), default=[0] * len(vrs))
+
+    def get_boolean(self, vrs):
+        return self._guard("getBoolean", lambda: super(ContractSlave, self).get_boolean(vrs),
+                           default=[False] * len(vrs))
+
+    def get_string(self, vrs):
+        return self._guard("getString", lambda: super(ContractSlave, self).get_string(vrs), default=[""] * len(vrs))
+
+    def set_real(self, vrs, values):
+        self._guard("setReal", lambda: super(ContractSlave, self).set_real(vrs, values))
+        self._guard("inputs", self._inputs_changed)
+
+    def set_integer(self, vrs, values):
+        self._guard("setInteger", lambda: super(ContractSlave, self).set_integer(vrs, values))
+        self._guard("inputs", self._inputs_changed)
+
+    def set_boolean(self, vrs, values):
+        self._guard("setBoolean", lambda: super(ContractSlave, self).set_boolean(vrs, values))
+        self._guard("inputs", self._inputs_changed)
+
+    def set_string(self, vrs, values):
+        self._guard("setString", lambda: super(ContractSlave, self).set_string(vrs, values))
+        self._guard("inputs", self._inputs_changed)
+
+    # ------------------------------------------------------------ state
+    def _get_fmu_state(self) -> dict[str, Any]:
+        def run():
+            return {"fmu": self.fmu_name, "values": dict(self.values), "initialized": self.initialized,
+                    "failed": self.failed, "start_time": self.start_time,
+                    "model": self._model_state() if self.initialized else None}
+
+        return self._guard("getFMUstate", run, default={"fmu": self.fmu_name, "invalid": True})
+
+    def _set_fmu_state(self, state: dict[str, Any]) -> None:
+        def run():
+            if state.get("fmu") != self.fmu_name or state.get("invalid"):
+                raise ValueError(f"the state does not belong to a valid {self.fmu_name} instance")
+            keep = self._model_time
+            self.values.update(state["values"])
+            self.values["model_wall_time"] = keep
+            self.start_time = float(state["start_time"])
+            self.failed = state["failed"]
+            self.initialized = bool(state["initialized"])
+            if self.initialized:
+                self._restore_model_state(state["model"])
+
+        ok = self._guard("setFMUstate", lambda: run() or True, default=False)
+        if not ok:
+            self.failed = "the FMU state could not be restored (see the previous message)"
+
+    # ------------------------------------------------------------ hooks
+    def _initialize(self) -> None:
+        """Build the model from the parameters and compute the outputs at ``start_time``."""
+        raise NotImplementedError
+
+    def _step(self, t: float, dt: float) -> bool:
+        """Advance from ``t`` by ``dt``; return False (after logging) if the step cannot be done."""
+        raise NotImplementedError
+
+    def _model_state(self) -> Any:
+        """JSON-able model state beyond the variable values (default: none)."""
+        return None
+
+    def _restore_model_state(self, data: Any) -> None:
+        """Restore :meth:`_model_state` (the variable values are already restored)."""
+
+    def _inputs_changed(self) -> None:
+        """Called after every set* call and on entering initialisation mode (direct-feedthrough
+        models recompute their outputs)."""
+
+    # ------------------------------------------------------------ helpers
+    def non_finite_inputs(self) -> list[str]:
+        """Names of Real inputs that are NaN or infinite."""
+        return [v.name for v in self.spec.inputs
+                if v.type == "Real" and not math.isfinite(self.values[v.name])]
+
+    def set_outputs(self, outputs: dict[str, Any]) -> list[str]:
+        """Copy outputs by name (names the model does not provide become 0 / false).
+
+        Returns the names not provided. Raises ValueError (nothing copied) if a value is
+        not finite.
+        """
+        missing, new = [], {}
+        for var in self.spec.outputs:
+            if var.diagnostic:
+                continue
+            if var.name in outputs:
+                value = _CAST[var.type](outputs[var.name])
+                if var.type == "Real" and not math.isfinite(value):
+                    raise ValueError(f"output '{var.name}' = {value} is not finite")
+                new[var.name] = value
+            else:
+                new[var.name] = _CAST[var.type](0)
+                missing.append(var.name)
+        self.values.update(new)
+        return missing

@@ -1,0 +1,118 @@
+"""The ``TowCable`` FMU slave: the towed-cable :class:`~towcable_fmu.simulation.Simulation`
+as an FMI 2.0 Co-Simulation FMU.
+
+Parameters: ``scene`` (a built-in scene name or a path to a scene TOML file),
+``overrides`` (``KEY=VALUE`` items as for ``towcable --set``, separated by ``;``) and a
+few common overrides named by their scene keys (``solver.time_step``,
+``solver.rho_inf``, ``towbody.mass``; their sentinel values 0 / -1 keep the scene's).
+Inputs: the 18 ``ship.*`` signals and ``winch.phi_sp``, ``winch.phi_sp_rate``.
+
+* ``exit_initialization_mode`` loads the scene, builds the Simulation and initialises it
+  (statics) at the start time with the ship state and set-point inputs present then.
+* ``do_step(t, dt)`` calls ``Simulation.step(dt, ship, (phi_sp, phi_sp_rate))`` with the
+  inputs at ``t`` (the ship state is extrapolated with constant acceleration over the
+  step) and copies the outputs.
+* Outputs the Simulation does not produce for the scene (for instance ``tension.sheave``,
+  ``contact.*``, ``sheave_angle`` and ``winch.payout`` until the winch-sheave contact
+  model provides them, or ``towbody.*`` without a towed body) are 0 (false); the list is
+  logged at initialisation.
+* Bad inputs or parameters: see :mod:`towcable_fmu.fmi.slave` (message, then
+  ``fmi2Discard`` for the step; outputs never NaN).
+* FMU state: the variable values plus ``Simulation.get_state()`` (JSON-able); restoring
+  it continues bit-identically, also in a fresh instance (the Simulation is rebuilt from
+  the parameters stored in the state).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from pythonfmu.enums import Fmi2Status
+
+from .errors import SceneError
+from .fmi.slave import ContractSlave, parse_overrides, ship_state
+from .scene import load_scene
+
+#: Numeric parameters that override a scene key, with the value that means "keep the scene's".
+OVERRIDE_PARAMETERS = {"solver.time_step": 0.0, "solver.rho_inf": -1.0, "towbody.mass": 0.0}
+
+
+def scene_overrides(p: dict[str, Any]) -> list[tuple[str, Any]]:
+    """Scene overrides from the TowCable parameters (name -> value)."""
+    items = parse_overrides(str(p.get("overrides", "")))
+    for key, keep in OVERRIDE_PARAMETERS.items():
+        if key in p and p[key] != keep:
+            items.append((key, p[key]))
+    return items
+
+
+class TowCable(ContractSlave):
+    """Towed-cable FMU (see the module docstring)."""
+
+    fmu_name = "TowCable"
+
+    def __init__(self, **kwargs) -> None:
+        super().__init__(**kwargs)
+        self.sim = None
+        self.missing: list[str] = []
+        self._built_from: tuple | None = None
+
+    def _parameters(self) -> dict[str, Any]:
+        return {v.name: self.values[v.name] for v in self.spec.parameters}
+
+    def _build(self) -> None:
+        from .simulation import Simulation
+
+        params = self._parameters()
+        self.sim = Simulation(load_scene(params["scene"], scene_overrides(params)))
+        self._built_from = tuple(sorted(params.items()))
+
+    def _inputs(self):
+        bad = self.non_finite_inputs()
+        if bad:
+            raise SceneError(bad[0], self.values[bad[0]], "a finite number (input "
+                             + ", ".join(f"{n} = {self.values[n]!r}" for n in bad) + ")")
+        return ship_state(self.values), (self.values["winch.phi_sp"], self.values["winch.phi_sp_rate"])
+
+    def _initialize(self) -> None:
+        ship, setpoint = self._inputs()
+        self._build()
+        out = self.timed(self.sim.initialize, self.start_time, ship, setpoint)
+        self.missing = self.set_outputs(out)
+        self.log(f"{self.instance_name}: scene '{self.values['scene']}' ({self.sim.scene.title}); "
+                 f"{self.sim.mesh.n_nodes - 1} elements; statics done")
+        if self.missing:
+            self.log(f"{self.instance_name}: outputs this scene does not model, held at 0: "
+                     + ", ".join(self.missing))
+
+    def _step(self, t: float, dt: float) -> bool:
+        now = self.sim.time
+        if abs(t - now) > 1e-9 * max(1.0, abs(t)):
+            self.log_error(f"communication point t = {t!r} s is not the model time {now!r} s "
+                           "(steps must follow each other, or restore a state first)", Fmi2Status.discard)
+            return False
+        try:
+            ship, setpoint = self._inputs()
+            # step to t + dt exactly: the model time follows the master's clock
+            out = self.timed(self.sim.step, (t + dt) - now, ship, setpoint)
+        except (SceneError, ArithmeticError, ValueError) as exc:
+            self.log_error(f"step from t = {t:.6g} s by {dt:.6g} s refused: {exc}", Fmi2Status.discard)
+            return False
+        except Exception as exc:  # SolverError and anything unexpected: the state is unchanged
+            self.log_error(f"step from t = {t:.6g} s by {dt:.6g} s failed: {exc}", Fmi2Status.discard)
+            return False
+        if not all(math.isfinite(float(v)) for v in out.values()):
+            self.log_error(f"non-finite outputs at t = {t + dt:.6g} s", Fmi2Status.discard)
+            return False
+        self.set_outputs(out)
+        return True
+
+    def _model_state(self) -> Any:
+        return {"simulation": self.sim.get_state(), "missing": list(self.missing)}
+
+    def _restore_model_state(self, data: Any) -> None:
+        if self.sim is None or self._built_from != tuple(sorted(self._parameters().items())):
+            self._build()
+        self.sim.set_state(data["simulation"])
+        self.missing = list(data["missing"])
