@@ -16,7 +16,7 @@ import numpy as np
 
 from . import drive as drive_poly
 from .ancf import element, initial_shape, measures
-from .ancf.measures import point_on_cable
+from .ancf.measures import element_tension, point_on_cable
 from .ancf.mesh import Mesh, build_mesh, build_model, winch_radius
 from .ancf.prescribed import apply_prescribed
 from .ancf.system import CableModel, residual
@@ -99,7 +99,7 @@ class Simulation:
         self.compensation = None  # the set-point algorithm, built at initialisation
         if scene.compensation is not None:
             compensation_config(scene, 0.0)  # validate the table now, before any computation
-        self.state = genalpha.new_state(6 * self.mesh.n_nodes)
+        self.state = genalpha.new_state(self.model.free_idx.size)
         self.workspace = genalpha.new_workspace(self.model)
         self.statics: StaticsResult | None = None
         self.turbulence: TurbulenceSeries | None = None
@@ -237,10 +237,19 @@ class Simulation:
         return self.outputs()
 
     def _initial_coordinates(self, ship0: np.ndarray) -> np.ndarray:
-        """Rough initial shape: wrapped on the winch and over the sheave, straight, or sagging."""
+        """Rough initial coordinates: the cable's shape, then the load hanging on along its end."""
+        x = self._initial_cable_shape(ship0)
+        if self.scene.load is None:
+            return x
+        end = x[-6:-3]
+        direction = x[-3:] / np.linalg.norm(x[-3:])
+        return np.concatenate([x, end + self.scene.load.length_pi * direction])
+
+    def _initial_cable_shape(self, ship0: np.ndarray) -> np.ndarray:
+        """Wrapped on the winch and over the sheave, draped over the sheave, straight, or sagging."""
         cable = self.scene.cable
         m = self.model
-        q = np.zeros(6 * self.mesh.n_nodes)
+        q = np.zeros(m.free_idx.size)
         v = np.zeros_like(q)
         a = np.zeros_like(q)
         apply_prescribed(m.att_index, m.att_kind, m.att_vec, m.att_radius, ship0, self.state.phi, q, v, a)
@@ -250,6 +259,8 @@ class Simulation:
         if cable.top.type == "free":
             q[0:3] = cable.top.position if cable.top.position is not None else 0.0
         top = q[0:3].copy()
+        if self.scene.sheave is not None and cable.initial.shape == "auto":
+            return self._draped_shape(ship0, top)
         if cable.bottom.type == "free":
             return initial_shape.straight(top, np.array(cable.initial.direction), arc)
         bottom = q[6 * (self.mesh.n_nodes - 1): 6 * (self.mesh.n_nodes - 1) + 3].copy()
@@ -257,6 +268,18 @@ class Simulation:
             chord = bottom - top
             return initial_shape.straight(top, chord, arc, float(np.linalg.norm(chord)) / arc[-1])
         return initial_shape.sag(top, bottom, np.array(cable.initial.sag_direction), arc)
+
+    def _draped_shape(self, ship0: np.ndarray, top: np.ndarray) -> np.ndarray:
+        """From the top end over the sheave, then along the initial direction (inertial)."""
+        sc = self.scene
+        rot = rotation_matrix(ship0[0, 3], ship0[0, 4], ship0[0, 5])
+        start = rot.T @ (top - ship0[0, :3])
+        radius = sc.sheave.radius + 0.5 * sc.cable.segments[0].diameter
+        x = initial_shape.draped(self.mesh.node_arc, start, np.array(sc.sheave.position), radius,
+                                 rot.T @ np.array(sc.cable.initial.direction)).reshape(-1, 2, 3)
+        x[:, 0, :] = x[:, 0, :] @ rot.T + ship0[0, :3]
+        x[:, 1, :] = x[:, 1, :] @ rot.T
+        return x.ravel()
 
     def _wrapped_shape(self, ship0: np.ndarray) -> np.ndarray:
         """Cable wound on the drum from phi, over the sheave, then along the initial
@@ -440,6 +463,8 @@ class Simulation:
             for k, c in enumerate("xyz"):
                 out[f"towbody.{c}"] = float(st.q[last + k])
                 out[f"towbody.v{c}"] = float(st.v[last + k])
+        if m.load_on:
+            out.update(self._load_outputs())
         if m.contact.enabled:
             out.update(self._contact_outputs(float(top)))
         out["energy.kinetic"] = float(kinetic)
@@ -449,6 +474,26 @@ class Simulation:
         if self.scene.winch is not None:
             out["winch.payout"] = winch_radius(self.scene) * (self.scene.winch.phi_nom - float(st.phi[0]))
         return out
+
+    def _load_outputs(self) -> dict[str, float]:
+        """Swing angle of the rigid load and the force the cable exerts on it."""
+        m, st = self.model, self.state
+        i = m.load_index
+        p = i - 6
+        load = self.scene.load
+        kappa = load.length_pg / load.length_pi
+        # the load's own equations summed over P and I: the link forces cancel, what remains
+        # is the cable's pull = sum of (mass matrix x acceleration) minus the load's weight
+        pull = ((m.load_mass[0] + m.load_mass[1]) * st.a[p:p + 3] + (m.load_mass[1] + m.load_mass[2]) * st.a[i:i + 3])
+        pull[2] += load.mass * self.scene.environment.gravity * ((1.0 - kappa) + kappa)
+        d = st.q[i:i + 3] - st.q[p:p + 3]
+        vp, vi = st.v[p:p + 3], st.v[i:i + 3]
+        kinetic = 0.5 * (m.load_mass[0] * vp @ vp + 2.0 * m.load_mass[1] * vp @ vi + m.load_mass[2] * vi @ vi)
+        length, rest = float(np.linalg.norm(d)), m.load_length
+        # the link force k (l - L)/L d of W(139) is central: its potential is a function of l alone
+        link = m.load_k / rest * ((length**3 - rest**3) / 3.0 - rest * (length**2 - rest**2) / 2.0)
+        return {"tension.load": float(np.linalg.norm(pull)), "load.angle": float(np.arctan2(d[0], -d[2])),
+                "energy.load": float(kinetic + link)}
 
     def contact_state(self) -> dict[str, np.ndarray]:
         """Contact at the current time: totals per surface and the force distribution.
@@ -469,21 +514,27 @@ class Simulation:
         span = np.zeros((2, 2))
         ends = np.zeros((2, 4))
         lowest = np.zeros(2)
+        energy = np.zeros(2)
         dist = np.zeros((4 * int(m.hydro.el_npts.sum()), 3))
         rows = surface_summary(m.contact, m.el_len, m.hydro.el_d, m.hydro.el_npts, self.state.q, self.state.v,
-                               self.workspace.ship, force, span, ends, lowest, dist)
-        return {"force": force, "span": span, "ends": ends, "lowest": lowest, "distribution": dist[:rows]}
+                               self.workspace.ship, force, span, ends, lowest, energy, dist)
+        return {"force": force, "span": span, "ends": ends, "lowest": lowest, "energy": energy,
+                "distribution": dist[:rows]}
 
     def _contact_outputs(self, top_tension: float) -> dict[str, float]:
         """Winch and sheave outputs: contact forces, departure tension and angle, wrap, detachment."""
         c = self.contact_state()
         out: dict[str, float] = {"contact.winch_force": float(np.linalg.norm(c["force"][WINCH])),
-                                 "contact.sheave_force": float(np.linalg.norm(c["force"][SHEAVE]))}
+                                 "contact.sheave_force": float(np.linalg.norm(c["force"][SHEAVE])),
+                                 "energy.contact": float(c["energy"].sum())}
         rot = rotation_matrix(*self.workspace.ship[0, 3:6])
+        last = self.mesh.n_elements - 1
         if self.scene.winch is not None:
             e, xi = c["ends"][WINCH, 2:]
             leave = point_on_cable(self.model, self.state.q, int(max(e, 0)), xi if e >= 0 else 0.0)
-            out["tension.winch"] = float(leave[6]) if e >= 0 else top_tension
+            # the force carried just off the drum: the mean over the next element
+            out["tension.winch"] = (element_tension(self.model, self.state.q, min(int(e) + 1, last)) if e >= 0
+                                    else top_tension)
             if self.scene.sheave is None:  # the cable departs from the drum: its angle plays the sheave's role
                 u = rot.T @ leave[3:6]
                 out["sheave_angle"] = float(np.arctan2(-u[0], -u[2]))
@@ -494,7 +545,8 @@ class Simulation:
                 node = int(np.argmin(np.linalg.norm(self.node_positions() - centre, axis=1)))
                 e, xi = (node, 0.0) if node < self.mesh.n_elements else (node - 1, 1.0)
             leave = point_on_cable(self.model, self.state.q, int(e), xi)
-            out["tension.sheave"] = float(leave[6])
+            # the force carried just off the sheave: the mean over the next element
+            out["tension.sheave"] = element_tension(self.model, self.state.q, min(int(e) + 1, last))
             u = rot.T @ leave[3:6]  # ship frame
             out["sheave_angle"] = float(np.arctan2(-u[0], -u[2]))
             if e0 >= 0:  # the wrap: how far the cable turns between meeting and leaving the sheave
@@ -503,7 +555,7 @@ class Simulation:
                 out["contact.wrap_angle"] = float(abs(np.arctan2(turn, u0[0] * u[0] + u0[2] * u[2])))
             else:
                 out["contact.wrap_angle"] = 0.0
-            out["contact.detached"] = float(c["lowest"][SHEAVE] > self.scene.sheave.groove_depth)
+            out["contact.detached"] = float(c["lowest"][SHEAVE] > 0.0)
         return out
 
     def statistics(self) -> dict[str, float]:

@@ -81,6 +81,50 @@ def sag(top: np.ndarray, bottom: np.ndarray, sag_direction: np.ndarray, node_arc
     return x.ravel()
 
 
+def _lay(node_arc: np.ndarray, pieces: list, tail_dir: np.ndarray) -> np.ndarray:
+    """Nodes along a path of lines and circular arcs, then straight along ``tail_dir``.
+
+    Pieces: ``("line", p0, p1)`` or ``("arc", centre, radius, a0, a1)``: a circle in the
+    XZ plane through ``centre``, angle psi measured from +Z towards +X (point
+    ``centre + radius (sin psi, 0, cos psi)``), travelled from a0 to a1.
+    """
+    x = np.zeros((node_arc.size, 2, 3))
+    start = 0.0
+    tail = None
+    for piece in pieces:
+        if piece[0] == "arc":
+            _, c, rad, a0, a1 = piece
+            sign = 1.0 if a1 >= a0 else -1.0
+            length = rad * abs(a1 - a0)
+            sel = (node_arc >= start) & (node_arc <= start + length)
+            ang = a0 + sign * (node_arc[sel] - start) / rad
+            zero = np.zeros_like(ang)
+            x[sel, 0, :] = c + rad * np.column_stack([np.sin(ang), zero, np.cos(ang)])
+            x[sel, 1, :] = sign * np.column_stack([np.cos(ang), zero, -np.sin(ang)])
+            tail = c + rad * np.array([np.sin(a1), 0.0, np.cos(a1)])
+        else:
+            _, p0, p1 = piece
+            length = float(np.linalg.norm(p1 - p0))
+            sel = (node_arc >= start) & (node_arc <= start + length)
+            if length > 0.0:
+                direction = (p1 - p0) / length
+                x[sel, 0, :] = p0 + (node_arc[sel] - start)[:, None] * direction
+                x[sel, 1, :] = direction
+            tail = p1
+        start += length
+    sel = node_arc > start
+    x[sel, 0, :] = tail + (node_arc[sel] - start)[:, None] * tail_dir
+    x[sel, 1, :] = tail_dir
+    return x.ravel()
+
+
+def _leave_angle(direction: np.ndarray, increasing: bool) -> float:
+    """Angle on a circle where the tangent of travel equals ``direction`` (XZ components)."""
+    if increasing:
+        return float(np.arctan2(-direction[2], direction[0]))
+    return float(np.arctan2(direction[2], -direction[0]))
+
+
 def wrapped(node_arc: np.ndarray, drum_center: np.ndarray, drum_radius: float, phi0: float,
             departure: np.ndarray, sheave_center: np.ndarray | None = None,
             sheave_radius: float = 0.0) -> np.ndarray:
@@ -111,51 +155,53 @@ def wrapped(node_arc: np.ndarray, drum_center: np.ndarray, drum_radius: float, p
     """
     u = np.asarray(departure, dtype=float)
     u = u / np.linalg.norm(u)
-    angle_out = np.arctan2(u[2], -u[0])  # circle angle where the tangent of decreasing angle is u
+    angle_out = _leave_angle(u, increasing=False)
     c1 = np.asarray(drum_center, dtype=float)
-    pieces = []  # ("arc", centre, radius, a0, a1) or ("line", p0, p1)
     if sheave_center is None:
-        pieces.append(("arc", c1, drum_radius, phi0, angle_out))
-    else:
-        c2 = np.asarray(sheave_center, dtype=float)
-        chord = np.array([c2[0] - c1[0], c2[2] - c1[2]])
-        dist = float(np.hypot(*chord))
-        d = chord / dist
-        up = np.array([d[1], -d[0]]) if -d[0] >= 0 else np.array([-d[1], d[0]])
-        if up[1] < 0:
-            up = -up
-        sin_a = (drum_radius - sheave_radius) / dist
-        n = np.sqrt(1.0 - sin_a**2) * up + sin_a * d
-        tangent_angle = np.arctan2(n[0], n[1])
-        p1 = c1 + drum_radius * np.array([n[0], 0.0, n[1]])
-        p2 = c2 + sheave_radius * np.array([n[0], 0.0, n[1]])
-        p1[1], p2[1] = c1[1], c2[1]
-        pieces.append(("arc", c1, drum_radius, phi0, tangent_angle))
-        pieces.append(("line", p1, p2))
-        pieces.append(("arc", c2, sheave_radius, tangent_angle, angle_out))
-    x = np.zeros((node_arc.size, 2, 3))
-    start = 0.0
-    tail_point, tail_dir = None, u
-    for piece in pieces:
-        if piece[0] == "arc":
-            _, c, rad, a0, a1 = piece
-            length = rad * max(a0 - a1, 0.0)
-            sel = (node_arc >= start) & (node_arc <= start + length)
-            ang = a0 - (node_arc[sel] - start) / rad
-            x[sel, 0, :] = c + rad * np.column_stack([np.sin(ang), np.zeros_like(ang), np.cos(ang)])
-            x[sel, 1, :] = np.column_stack([-np.cos(ang), np.zeros_like(ang), np.sin(ang)])
-            end = min(a0, max(a1, a0 - length / rad)) if rad > 0 else a0
-            tail_point = c + rad * np.array([np.sin(end), 0.0, np.cos(end)])
-        else:
-            _, p0, p1 = piece
-            length = float(np.linalg.norm(p1 - p0))
-            direction = (p1 - p0) / length
-            sel = (node_arc >= start) & (node_arc <= start + length)
-            x[sel, 0, :] = p0 + (node_arc[sel] - start)[:, None] * direction
-            x[sel, 1, :] = direction
-            tail_point = p1
-        start += length
-    sel = node_arc > start
-    x[sel, 0, :] = tail_point + (node_arc[sel] - start)[:, None] * tail_dir
-    x[sel, 1, :] = tail_dir
-    return x.ravel()
+        return _lay(node_arc, [("arc", c1, drum_radius, phi0, angle_out)], u)
+    c2 = np.asarray(sheave_center, dtype=float)
+    chord = np.array([c2[0] - c1[0], c2[2] - c1[2]])
+    dist = float(np.hypot(*chord))
+    d = chord / dist
+    up = np.array([d[1], -d[0]]) if -d[0] >= 0 else np.array([-d[1], d[0]])
+    if up[1] < 0:
+        up = -up
+    sin_a = (drum_radius - sheave_radius) / dist
+    n = np.sqrt(1.0 - sin_a**2) * up + sin_a * d
+    tangent_angle = float(np.arctan2(n[0], n[1]))
+    p1 = c1 + drum_radius * np.array([n[0], 0.0, n[1]])
+    p2 = c2 + sheave_radius * np.array([n[0], 0.0, n[1]])
+    p1[1], p2[1] = c1[1], c2[1]
+    return _lay(node_arc, [("arc", c1, drum_radius, phi0, tangent_angle), ("line", p1, p2),
+                           ("arc", c2, sheave_radius, tangent_angle, angle_out)], u)
+
+
+def draped(node_arc: np.ndarray, start: np.ndarray, center: np.ndarray, radius: float,
+           departure: np.ndarray) -> np.ndarray:
+    """Cable from ``start`` over a pulley, then straight along ``departure``.
+
+    From ``start`` the cable runs along the upper tangent to the circle (centreline
+    radius ``radius`` about ``center``, in the XZ plane), over the top towards the side the
+    start is not on, and leaves where its direction equals ``departure``.
+
+    Returns
+    -------
+    ndarray, shape (6 nn,)
+        Nodal positions and unit slopes (frame of the arguments).
+    """
+    p = np.asarray(start, dtype=float)
+    c = np.asarray(center, dtype=float)
+    u = np.asarray(departure, dtype=float)
+    u = u / np.linalg.norm(u)
+    w = np.array([p[0] - c[0], p[2] - c[2]])
+    dist = float(np.hypot(*w))
+    if dist <= radius:
+        raise ValueError("the start of a draped cable lies inside the pulley")
+    increasing = w[0] < 0.0  # coming from -X: over the top towards +X
+    spread = float(np.arccos(radius / dist))
+    psi_w = float(np.arctan2(w[0], w[1]))
+    a0 = psi_w + spread if increasing else psi_w - spread
+    touch = c + radius * np.array([np.sin(a0), 0.0, np.cos(a0)])
+    touch[1] = p[1]
+    a1 = _leave_angle(u, increasing)
+    return _lay(node_arc, [("line", p, touch), ("arc", np.array([c[0], p[1], c[2]]), radius, a0, a1)], u)

@@ -17,7 +17,7 @@ from ..hydro.towbody import BodyHydro, no_body
 from ..hydro.water import CURRENT_KINDS, WaterModel, dry_water
 from ..scene.model import End, Scene
 from . import element
-from ..contact.surfaces import CYLINDER, SHEAVE, WALL_MINUS, WALL_PLUS, WINCH, ContactModel, no_contact
+from ..contact.surfaces import CYLINDER, RIM, SHEAVE, WALL_MINUS, WALL_PLUS, WINCH, ContactModel, no_contact
 from .prescribed import FIXED_POINT, FIXED_SLOPE, SHIP_POINT, SHIP_SLOPE, WINCH_POINT
 from .system import CableModel
 
@@ -82,7 +82,7 @@ def _attachments(end: End, node: int, sign: float, winch_center: np.ndarray | No
 
 
 def _band_width(free_idx: np.ndarray, n_elements: int) -> int:
-    width = 0
+    width = 6 if free_idx.size % 6 else 0  # a rigid load couples the last node with 3 extra coordinates
     for e in range(n_elements):
         idx = free_idx[6 * e: 6 * e + 12]
         idx = idx[idx >= 0]
@@ -95,7 +95,8 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
     """Compile-ready arrays for ``scene`` meshed as ``mesh``."""
     segs = scene.cable.segments
     ne, nn = mesh.n_elements, mesh.n_nodes
-    nf = 6 * nn
+    rigid = scene.load
+    nf = 6 * nn + (3 if rigid is not None else 0)
     g = scene.environment.gravity
     el_len = mesh.lengths.copy()
     props = [segs[i] for i in mesh.segment_of_element]
@@ -111,9 +112,17 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
         for i in range(4):
             f_const[6 * e + 3 * i + 2] += load[i]
     node_mass = np.zeros((nn, 3))
+    node_mass[0, :] += scene.cable.top.mass
+    node_mass[-1, :] += scene.cable.bottom.mass
     if scene.towbody is not None:
-        node_mass[-1, :] = scene.towbody.mass
-        f_const[6 * (nn - 1) + 2] -= scene.towbody.mass * g
+        node_mass[-1, :] += scene.towbody.mass
+    f_const[2:6 * nn:6] -= node_mass[:, 2] * g
+    load_mass = np.zeros(3)
+    if rigid is not None:
+        kappa = rigid.length_pg / rigid.length_pi
+        load_mass[:] = (2.0 * rigid.mass * (1.0 - kappa), rigid.mass * (kappa - 1.0), rigid.mass)
+        f_const[6 * (nn - 1) + 2] -= rigid.mass * g * (1.0 - kappa)  # weight at G, shared by P and I
+        f_const[6 * nn + 2] -= rigid.mass * g * kappa
 
     winch_center = None if scene.winch is None else np.array(scene.winch.position, dtype=float)
     att = _attachments(scene.cable.top, 0, 1.0, winch_center) + _attachments(scene.cable.bottom, nn - 1, -1.0)
@@ -125,7 +134,8 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
     free_idx[free_dofs] = np.arange(free_dofs.size)
     width = _band_width(free_idx, ne)
     node_length = np.minimum(np.concatenate([el_len[:1], el_len]), np.concatenate([el_len, el_len[-1:]]))
-    scale = np.where(free_dofs % 6 < 3, 1.0 / node_length[free_dofs // 6], 1.0)
+    node_length = np.append(node_length, node_length[-1])  # the load's point I scales like the last node
+    scale = np.where(free_dofs % 6 < 3, 1.0 / node_length[np.minimum(free_dofs // 6, nn)], 1.0)
 
     gx, gw = element.gauss_legendre(AXIAL_GAUSS_POINTS)
     water = build_water(scene)
@@ -140,6 +150,8 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
         att_radius=np.array([winch_radius(scene) if kind == WINCH_POINT else 0.0 for _, kind, _ in att]),
         water=water, hydro=build_cable_hydro(scene, mesh, water.enabled), body=build_body(scene, 6 * (nn - 1)),
         contact=build_contact(scene),
+        load_on=rigid is not None, load_index=6 * nn, load_mass=load_mass,
+        load_k=0.0 if rigid is None else rigid.stiffness, load_length=1.0 if rigid is None else rigid.length_pi,
     )
 
 
@@ -155,28 +167,31 @@ def winch_radius(scene: Scene) -> float:
 
 def build_contact(scene: Scene) -> ContactModel:
     """Contact faces of the drum and the sheave (disabled when the scene has neither)."""
-    faces = []
+    faces = []  # (surface, kind, centre, radius, depth, cos, sin, opening, rim width, law)
     if scene.winch is not None:
         w = scene.winch
-        faces.append((WINCH, CYLINDER, w.position, w.radius, 0.0, 1.0, 0.0, w.contact))
+        faces.append((WINCH, CYLINDER, w.position, w.radius, 0.0, 1.0, 0.0, 0.0, 0.0, w.contact))
     if scene.sheave is not None:
         sh = scene.sheave
         if sh.shape == "cylinder":
-            faces.append((SHEAVE, CYLINDER, sh.position, sh.radius, 0.0, 1.0, 0.0, sh.contact))
+            faces.append((SHEAVE, CYLINDER, sh.position, sh.radius, 0.0, 1.0, 0.0, 0.0, 0.0, sh.contact))
         else:
             half = np.radians(sh.throat_angle) / 2.0
-            for kind in (WALL_PLUS, WALL_MINUS):
+            opening = sh.groove_depth * np.tan(half)
+            for kind in (WALL_PLUS, WALL_MINUS, RIM):
                 faces.append((SHEAVE, kind, sh.position, sh.radius, sh.groove_depth, np.cos(half), np.sin(half),
-                              sh.contact))
+                              opening, sh.rim_width, sh.contact))
     if not faces:
         return no_contact()
+
+    def column(k: int) -> np.ndarray:
+        return np.array([f[k] for f in faces], dtype=float)
+
     return ContactModel(
         True, np.array([f[0] for f in faces], dtype=np.int64), np.array([f[1] for f in faces], dtype=np.int64),
-        np.array([f[2] for f in faces], dtype=float), np.array([f[3] for f in faces], dtype=float),
-        np.array([f[4] for f in faces], dtype=float), np.array([f[5] for f in faces], dtype=float),
-        np.array([f[6] for f in faces], dtype=float), np.array([f[7].stiffness for f in faces], dtype=float),
-        np.array([f[7].exponent for f in faces], dtype=float), np.array([f[7].damping for f in faces], dtype=float),
-        np.zeros(1, dtype=np.int64))
+        column(2), column(3), column(4), column(5), column(6), column(7), column(8),
+        np.array([f[9].stiffness for f in faces]), np.array([f[9].exponent for f in faces]),
+        np.array([f[9].damping for f in faces]), np.zeros(1, dtype=np.int64))
 
 
 def build_water(scene: Scene) -> WaterModel:

@@ -60,6 +60,11 @@ class CableModel(NamedTuple):
     hydro: CableHydro           #: per-element hydrodynamic properties
     body: BodyHydro             #: towed body in water
     contact: ContactModel       #: winch drum and sheave faces (``enabled`` False: none)
+    load_on: bool               #: a rigid load hangs from the last node (W(138)-(139))
+    load_index: int             #: first coordinate of the load's centre of inertia I
+    load_mass: np.ndarray       #: (3,) entries m_PP, m_PI, m_II of the load mass matrix W(138) [kg]
+    load_k: float               #: k_L, stiffness of the link P-I [N]
+    load_length: float          #: L_PI, rest length of the link [m]
 
 
 @njit(cache=True)
@@ -121,6 +126,8 @@ def residual(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: 
     for n in range(nn):
         for c in range(3):
             out[6 * n + c] += model.node_mass[n, c] * a[6 * n + c]
+    if model.load_on:
+        _load_residual(model, q, a, out)
     if model.contact.enabled:
         cable_contact.add_residual(model.contact, model.el_len, model.hydro.el_d, model.hydro.el_npts, q, v, ship,
                                    out)
@@ -129,6 +136,57 @@ def residual(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: 
         if model.body.enabled:
             body_hydro.add_residual(model.water, model.body, q, v, a, t, out)
     return energy
+
+
+@njit(cache=True)
+def _load_link(model: CableModel, q: np.ndarray) -> tuple:
+    """Separation d = r_P - r_I, its length and the link strain of the rigid load."""
+    i = model.load_index
+    p = i - 6
+    dx, dy, dz = q[p] - q[i], q[p + 1] - q[i + 1], q[p + 2] - q[i + 2]
+    length = np.sqrt(dx * dx + dy * dy + dz * dz)
+    return dx, dy, dz, length, (length - model.load_length) / model.load_length
+
+
+@njit(cache=True)
+def _load_residual(model: CableModel, q: np.ndarray, a: np.ndarray, out: np.ndarray) -> None:
+    """Inertia W(138) and link force W(139) of the rigid load (P = last node, I = extra point)."""
+    i = model.load_index
+    p = i - 6
+    m_pp, m_pi, m_ii = model.load_mass[0], model.load_mass[1], model.load_mass[2]
+    dx, dy, dz, _, eps = _load_link(model, q)
+    k = model.load_k * eps
+    for c, dc in enumerate((dx, dy, dz)):
+        out[p + c] += m_pp * a[p + c] + m_pi * a[i + c] + k * dc
+        out[i + c] += m_pi * a[p + c] + m_ii * a[i + c] - k * dc
+
+
+@njit(cache=True)
+def _load_jacobian(model: CableModel, q: np.ndarray, ca: float, cq: float, ab: np.ndarray) -> None:
+    i = model.load_index
+    p = i - 6
+    dx, dy, dz, length, eps = _load_link(model, q)
+    d = (dx, dy, dz)
+    block = np.zeros((6, 6))
+    mass = model.load_mass
+    for r in range(3):
+        block[r, r] += ca * mass[0]
+        block[r, 3 + r] += ca * mass[1]
+        block[3 + r, r] += ca * mass[1]
+        block[3 + r, 3 + r] += ca * mass[2]
+        for c in range(3):
+            kk = cq * model.load_k * ((eps if r == c else 0.0) + d[r] * d[c] / (model.load_length * length))
+            block[r, c] += kk
+            block[r, 3 + c] -= kk
+            block[3 + r, c] -= kk
+            block[3 + r, 3 + c] += kk
+    off = model.kl + model.ku
+    for r in range(6):
+        fr = model.free_idx[(p if r < 3 else i) + r % 3]
+        for c in range(6):
+            fc = model.free_idx[(p if c < 3 else i) + c % 3]
+            if fr >= 0 and fc >= 0:
+                ab[off + fr - fc, fc] += block[r, c]
 
 
 @njit(cache=True)
@@ -179,6 +237,8 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
             fi = model.free_idx[6 * n + c]
             if fi >= 0:
                 ab[off, fi] += ca * model.node_mass[n, c]
+    if model.load_on:
+        _load_jacobian(model, q, ca, cq, ab)
     if model.contact.enabled:
         cable_contact.add_jacobian(model.contact, model.el_len, model.hydro.el_d, model.hydro.el_npts, q, v, ship,
                                    model.free_idx, model.kl, model.ku, cv, cq, ab)

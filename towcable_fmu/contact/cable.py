@@ -18,7 +18,7 @@ from numba import njit
 from ..ancf.partial import active_quadrature, crossing_stiffness, hermite, interpolate
 from ..kinematics import rotation_derivatives
 from ..numerics.banded import band_add_block
-from .surfaces import ContactModel, face_force
+from .surfaces import CYLINDER, ContactModel, face_force
 
 _MARGIN = 1e-3  # [m] added to the reach of a surface when culling elements
 
@@ -72,28 +72,30 @@ def _ship_point(c: ContactModel, f: int, rot: np.ndarray, rot1: np.ndarray, ship
 @njit(cache=True, inline="always")
 def _inertial_force(c: ContactModel, f: int, half_d: float, rot: np.ndarray, rot1: np.ndarray, ship: np.ndarray,
                     rx: float, ry: float, rz: float, vx: float, vy: float, vz: float) -> tuple:
-    """Face force per unit length in the inertial frame, W(102), and the indicator."""
+    """Face force per unit length in the inertial frame, W(102), the indicator and the stored energy."""
     sx, sy, sz, wx, wy, wz = _ship_point(c, f, rot, rot1, ship, rx, ry, rz, vx, vy, vz)
-    fx, fy, fz, g = face_force(c, f, half_d, sx, sy, sz, wx, wy, wz)
+    fx, fy, fz, g, energy = face_force(c, f, half_d, sx, sy, sz, wx, wy, wz)
     return (rot[0, 0] * fx + rot[0, 1] * fy + rot[0, 2] * fz, rot[1, 0] * fx + rot[1, 1] * fy + rot[1, 2] * fz,
-            rot[2, 0] * fx + rot[2, 1] * fy + rot[2, 2] * fz, g)
+            rot[2, 0] * fx + rot[2, 1] * fy + rot[2, 2] * fz, g, energy)
 
 
 @njit(cache=True)
 def _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, xi, wt, g, cross, fpt):
-    """Active quadrature of face f on one element; forces at all its points into ``fpt``."""
+    """Active quadrature of face f on one element; forces and stored energy density at all its
+    points into ``fpt`` (columns fx, fy, fz [N/m], energy [J/m])."""
     for j in range(npts):
         n = hermite(j / (npts - 1), length)
         rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
         vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
-        fpt[j, 0], fpt[j, 1], fpt[j, 2], g[j] = _inertial_force(c, f, half_d, rot, rot1, ship, rx, ry, rz,
-                                                                vx, vy, vz)
+        fpt[j, 0], fpt[j, 1], fpt[j, 2], g[j], fpt[j, 3] = _inertial_force(c, f, half_d, rot, rot1, ship,
+                                                                           rx, ry, rz, vx, vy, vz)
     count = active_quadrature(length, npts, g, xi, wt, cross)
     for p in range(npts, count):
         n = hermite(xi[p], length)
         rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
         vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
-        fpt[p, 0], fpt[p, 1], fpt[p, 2], _ = _inertial_force(c, f, half_d, rot, rot1, ship, rx, ry, rz, vx, vy, vz)
+        fpt[p, 0], fpt[p, 1], fpt[p, 2], _, fpt[p, 3] = _inertial_force(c, f, half_d, rot, rot1, ship, rx, ry,
+                                                                        rz, vx, vy, vz)
     return count
 
 
@@ -107,7 +109,7 @@ def add_residual(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_npts:
     wt = np.empty(m)
     g = np.empty(m)
     cross = np.empty(m, dtype=np.int64)
-    fpt = np.empty((m, 3))
+    fpt = np.empty((m, 4))
     evaluations = 0
     for e in range(el_len.shape[0]):
         base = 6 * e
@@ -148,7 +150,7 @@ def add_jacobian(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_npts:
     wt = np.empty(m)
     g = np.empty(m)
     cross = np.empty(m, dtype=np.int64)
-    fpt = np.zeros((m, 3))
+    fpt = np.zeros((m, 4))
     dg = np.zeros((m, 3))
     jac = np.empty((3, 6))
     state = np.empty(6)
@@ -211,7 +213,7 @@ def add_jacobian(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_npts:
 @njit(cache=True)
 def surface_summary(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_npts: np.ndarray, q: np.ndarray,
                     v: np.ndarray, ship: np.ndarray, force: np.ndarray, span: np.ndarray, ends: np.ndarray,
-                    lowest: np.ndarray, dist: np.ndarray) -> int:
+                    lowest: np.ndarray, energy: np.ndarray, dist: np.ndarray) -> int:
     """What touches what: totals and the force distribution, for the outputs.
 
     Parameters (all outputs, per surface s = WINCH, SHEAVE)
@@ -225,8 +227,12 @@ def surface_summary(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_np
         (2, 4) element index and xi of the first and of the last touching point along the
         cable (element -1 when nothing touches): where the cable meets and leaves the surface.
     lowest
-        (2,) smallest height h of a cable point above its seated position over the
-        upper half of the surface (Z >= 0) [m] (inf when no point is there).
+        (2,) how far the cable is from its seat, minimised over its points on the upper
+        half of the surface (Z >= 0) [m] (inf when no point is there): for a plain drum or
+        pulley the height h above the surface; for a groove the larger of (h - h_g) and
+        (|Y| - half-opening), positive when the point is out of the groove.
+    energy
+        (2,) elastic energy stored in the contact [J].
     dist
         (k, 3) rows (surface, psi [rad], force per unit length [N/m]) of active points.
 
@@ -242,12 +248,13 @@ def surface_summary(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_np
     ends[:, 0] = -1.0
     ends[:, 2] = -1.0
     lowest[:] = np.inf
+    energy[:] = 0.0
     m = 2 * el_npts.max()
     xi = np.empty(m)
     wt = np.empty(m)
     g = np.empty(m)
     cross = np.empty(m, dtype=np.int64)
-    fpt = np.empty((m, 3))
+    fpt = np.empty((m, 4))
     rows = 0
     for e in range(el_len.shape[0]):
         base = 6 * e
@@ -265,11 +272,15 @@ def surface_summary(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_np
                 vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
                 sx, sy, sz, _, _, _ = _ship_point(c, f, rot, rot1, ship, rx, ry, rz, vx, vy, vz)
                 if p < npts and sz >= 0.0:
-                    lowest[s] = min(lowest[s], math.sqrt(sx * sx + sz * sz) - (c.face_radius[f] + half_d))
+                    h = math.sqrt(sx * sx + sz * sz) - (c.face_radius[f] + half_d)
+                    if c.face_kind[f] != CYLINDER:  # out of a groove: above its top or beside its opening
+                        h = max(h - c.face_depth[f], abs(sy) - c.face_open[f])
+                    lowest[s] = min(lowest[s], h)
                 wp = wt[p]
                 if wp == 0.0:
                     continue
                 fx, fy, fz = fpt[p, 0], fpt[p, 1], fpt[p, 2]
+                energy[s] += wp * fpt[p, 3]
                 force[s, 0] += wp * fx
                 force[s, 1] += wp * fy
                 force[s, 2] += wp * fz

@@ -11,7 +11,13 @@ position:
 * groove wall on the +Y side: ``delta = Y cos(theta_g/2) - h sin(theta_g/2)``, normal
   ``-cos(theta_g/2) e_Y + sin(theta_g/2) e_rho``; on the -Y side with ``-Y`` (W(100);
   the reference prints the normals with an X component, which in the YZ plane of W(96)
-  is the Y component); no force when ``h > h_g`` (W(101)).
+  is the Y component); no force when ``h > h_g`` (W(101));
+* the rims (flange tops) beside the groove opening ``|Y| > Y_o = h_g tan(theta_g/2)``, out
+  to ``Y_o + w`` (rim width w): ``delta = h_g - h``, normal ``e_rho``. Deviation: the
+  reference's walls extend sideways without end, so a cable that has climbed out of the
+  groove and is pulled down beside it meets an ever deeper penetration and is thrown back
+  violently; with the rims it lands on the flange top or slides off the sheave's side
+  (no contact beyond the rim), and the walls act only within the opening.
 
 Force per unit length after Hunt and Crossley W(93): ``k delta^n (1 + D d(delta)/dt)``
 along the normal, never pulling (the bracket is clipped at zero). Each face reports an
@@ -30,6 +36,7 @@ from numba import njit
 CYLINDER = 0
 WALL_PLUS = 1
 WALL_MINUS = 2
+RIM = 3
 
 WINCH = 0
 SHEAVE = 1
@@ -46,6 +53,8 @@ class ContactModel(NamedTuple):
     face_depth: np.ndarray    #: (nf,) groove depth h_g [m] (0 for a cylinder)
     face_cos: np.ndarray      #: (nf,) cos(theta_g / 2)
     face_sin: np.ndarray      #: (nf,) sin(theta_g / 2)
+    face_open: np.ndarray     #: (nf,) half-opening of the groove at its top Y_o [m] (wall faces are active within)
+    face_rim: np.ndarray      #: (nf,) rim width beyond the opening [m] (rim faces are active there)
     face_k: np.ndarray        #: (nf,) stiffness k_N
     face_n: np.ndarray        #: (nf,) exponent n
     face_damping: np.ndarray  #: (nf,) D [s/m]
@@ -56,7 +65,7 @@ def no_contact() -> ContactModel:
     """The contact data of a scene without winch or sheave."""
     z = np.zeros(0)
     return ContactModel(False, np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros((0, 3)), z, z,
-                        z, z, z, z, z, np.zeros(1, dtype=np.int64))
+                        z, z, z, z, z, z, z, np.zeros(1, dtype=np.int64))
 
 
 @njit(cache=True, inline="always")
@@ -77,9 +86,10 @@ def face_force(c: ContactModel, f: int, half_d: float, x: float, y: float, z: fl
 
     Returns
     -------
-    (fx, fy, fz, g)
+    (fx, fy, fz, g, e)
         Force [N/m] (the force when active, evaluated even where g <= 0 so that a
-        crossing point gets the value of the active side) and the indicator g [m].
+        crossing point gets the value of the active side), the indicator g [m] and the
+        elastic energy stored per unit length k delta^(n+1) / (n+1) [J/m].
     """
     rho = math.sqrt(x * x + z * z)
     inv = 1.0 / max(rho, 1e-12)
@@ -93,14 +103,21 @@ def face_force(c: ContactModel, f: int, half_d: float, x: float, y: float, z: fl
         ddelta = -rho_dot
         nx, ny, nz = ex, 0.0, ez
         g = delta
+    elif kind == RIM:
+        delta = c.face_depth[f] - h
+        ddelta = -rho_dot
+        nx, ny, nz = ex, 0.0, ez
+        side = abs(y) - c.face_open[f]
+        g = min(delta, min(side, c.face_rim[f] - side))
     else:
         ca, sa = c.face_cos[f], c.face_sin[f]
         sign = 1.0 if kind == WALL_PLUS else -1.0
         delta = sign * y * ca - h * sa
         ddelta = sign * vy * ca - rho_dot * sa
         nx, ny, nz = sa * ex, -sign * ca, sa * ez
-        g = min(delta, c.face_depth[f] - h)
+        g = min(delta, min(c.face_depth[f] - h, c.face_open[f] - abs(y)))
     if delta <= 0.0:
-        return 0.0, 0.0, 0.0, g
-    mag = c.face_k[f] * delta ** c.face_n[f] * max(1.0 + c.face_damping[f] * ddelta, 0.0)
-    return mag * nx, mag * ny, mag * nz, g
+        return 0.0, 0.0, 0.0, g, 0.0
+    elastic = c.face_k[f] * delta ** c.face_n[f]
+    mag = elastic * max(1.0 + c.face_damping[f] * ddelta, 0.0)
+    return mag * nx, mag * ny, mag * nz, g, elastic * delta / (c.face_n[f] + 1.0)

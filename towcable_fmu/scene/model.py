@@ -65,6 +65,7 @@ class End:
     slope: tuple[float, ...] | None = spec(None, unit="-", length=3,
                                            doc="clamped ends: cable direction leaving the end, pointing into "
                                                "the cable (normalised)")
+    mass: float = spec(0.0, unit="kg", ge=0.0, doc="point mass lumped at a free end")
 
     def validate(self, key: str) -> None:
         """Cross-field checks."""
@@ -73,6 +74,8 @@ class End:
                                                                      "and its rotation place it)")
         if self.type in ("pinned", "clamped") and self.position is None:
             raise SceneError(f"{key}.position", None, f"a list of 3 numbers [m] (required for type = '{self.type}')")
+        if self.mass > 0.0 and self.type != "free":
+            raise SceneError(f"{key}.mass", self.mass, "0 unless the end is free (a held end carries no mass)")
         if self.type == "clamped":
             if self.slope is None:
                 raise SceneError(f"{key}.slope", None, "a list of 3 numbers (required for type = 'clamped')")
@@ -163,6 +166,9 @@ class Sheave:
                       doc="groove: two walls meeting at the groove centre, W(100); cylinder: a plain pulley")
     groove_depth: float = spec(0.01, unit="m", gt=0.0, doc="h_g: no force above this height, W(101)")
     throat_angle: float = spec(60.0, unit="deg", gt=0.0, lt=180.0, doc="theta_g: angle between the walls")
+    rim_width: float = spec(0.02, unit="m", ge=0.0,
+                            doc="width of each flange top beside the groove opening (a cable out of the groove "
+                                "rests there or slides off the side)")
     contact: ContactLaw = spec(ContactLaw(), doc="cable-sheave contact")
 
 
@@ -263,6 +269,24 @@ class TowBody:
 
 
 @dataclasses.dataclass(frozen=True)
+class RigidLoad:
+    """A rigid load hanging from the bottom end, in the plane of its swing (section 4.1,
+    W(138)-(139)): described by the attachment point P (the cable's last node, a
+    spherical joint) and its centre of inertia I, with the mass matrix of W(138) and a
+    stiff elastic link between P and I, W(139)."""
+
+    mass: float = spec(unit="kg", gt=0.0, doc="m_L")
+    length_pi: float = spec(unit="m", gt=0.0, doc="L_PI: distance from the attachment to the centre of inertia")
+    length_pg: float = spec(unit="m", gt=0.0, doc="L_PG: distance from the attachment to the centre of gravity")
+    stiffness: float = spec(1e6, unit="N", gt=0.0, doc="k_L: axial stiffness of the link P-I (per unit strain)")
+
+    def validate(self, key: str) -> None:
+        """Cross-field checks."""
+        if not self.length_pg <= self.length_pi:
+            raise SceneError(f"{key}.length_pg", self.length_pg, f"<= length_pi = {self.length_pi:g} m")
+
+
+@dataclasses.dataclass(frozen=True)
 class SolverSettings:
     """Time integration: generalised-alpha with Newton on a banded Jacobian."""
 
@@ -314,6 +338,7 @@ class Scene:
                                                "scene's own motion (see controllers/README.md); winch radius, "
                                                "phi_nom and the sheave position default to the scene's")
     towbody: TowBody | None = spec(None, doc="lumped towed body at the bottom end (bottom must be free)")
+    load: RigidLoad | None = spec(None, doc="rigid load swinging from the bottom end (bottom must be free)")
     motion: dict | None = spec(None, doc="ship motion (see ship_motion/README.md); none: the ship is still")
     solver: SolverSettings = spec(SolverSettings(), doc="time integration")
     statics: StaticsSettings = spec(StaticsSettings(), doc="equilibrium solver")
@@ -327,9 +352,14 @@ class Scene:
             raise SceneError("cable.top.type", self.cable.top.type, "'winch' exactly when a [winch] is given")
         if self.compensation is not None and self.winch is None:
             raise SceneError("compensation", self.compensation, "absent without a [winch]")
-        if self.free_floating and self.statics.enabled:
-            raise SceneError("statics.enabled", True, "false when both cable ends are free (a falling or "
-                                                      "drifting cable has no static equilibrium)")
+        if self.load is not None and (self.towbody is not None or self.cable.bottom.type != "free"
+                                      or self.cable.bottom.mass > 0.0):
+            raise SceneError("load", "[load]", "a free bottom end without [towbody] or bottom mass")
+        if self.towbody is not None and self.cable.bottom.mass > 0.0:
+            raise SceneError("cable.bottom.mass", self.cable.bottom.mass, "0 with a [towbody] (give its mass there)")
+        if self.free_floating and self.statics.enabled and self.sheave is None:
+            raise SceneError("statics.enabled", True, "false when both cable ends are free and nothing holds the "
+                                                      "cable (a falling or drifting cable has no equilibrium)")
         if self.towbody is not None and self.cable.bottom.type != "free":
             raise SceneError("cable.bottom.type", self.cable.bottom.type, "'free' when a [towbody] is attached")
         body = self.towbody
