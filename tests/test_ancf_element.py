@@ -60,18 +60,19 @@ class AxialElement:
 
     def force(self, x):
         f = np.zeros(12)
-        energy = axial_force(x, self.L, self.ea, self.tension_only, self.d, self.gw, self.lam, self.u, f)
+        energy = axial_force(x, 0, self.L, self.ea, self.tension_only, self.d, self.gw, self.lam, self.u, f)
         return f, energy
 
     def tangent(self, x):
         k = np.zeros((12, 12))
-        axial_tangent(x, self.L, self.ea, self.tension_only, self.d, self.gw, self.lam, self.u, 1.0, k)
+        axial_tangent(x, 0, self.L, self.ea, self.tension_only, self.d, self.gw, self.lam, self.u, 1.0, k,
+                      np.empty((3, 12)), np.empty(3), np.empty((3, 3)))
         return k
 
     def strain(self, x, xi):
         dn = element.shape_derivatives(np.array([xi]), 1.0)
         out = np.zeros(1)
-        axial_strains(x, self.L, self.d, self.gw, self.lam, self.u, dn, out)
+        axial_strains(x, 0, self.L, self.d, self.gw, self.lam, self.u, dn, out)
         return out[0]
 
 

@@ -13,7 +13,8 @@ approximated. The reference used trapezoidal weights; this is a quadrature choic
 not a model change, and it is checked by the tests (exact arc length of a circular
 arc, energy gradient against finite differences).
 
-All kernels take one element's 12 nodal coordinates ``x = [r0, r0_p, r1, r1_p]``.
+All kernels read one element's 12 nodal coordinates ``[r0, r0_p, r1, r1_p]`` from a
+coordinate vector ``x`` starting at index ``base``.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from numba import njit
 _TINY = 1e-300
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def slope_derivatives(gauss_dn: np.ndarray, length: float, d: np.ndarray) -> None:
     """dN_i/dp at the quadrature points for an element of length L.
 
@@ -46,15 +47,16 @@ def slope_derivatives(gauss_dn: np.ndarray, length: float, d: np.ndarray) -> Non
         d[g, 3] = gauss_dn[g, 3]
 
 
-@njit(cache=True)
-def _kinematics(x, d, length, gw, lam, u):
+@njit(cache=True, inline="always")
+def _kinematics(x, base, d, length, gw, lam, u):
     """Slope norms at the points and the three decoupled coordinates (a0, s, a1)."""
     ng = d.shape[0]
     s = 0.0
     for g in range(ng):
         n2 = 0.0
         for k in range(3):
-            v = d[g, 0] * x[k] + d[g, 1] * x[3 + k] + d[g, 2] * x[6 + k] + d[g, 3] * x[9 + k]
+            v = (d[g, 0] * x[base + k] + d[g, 1] * x[base + 3 + k] + d[g, 2] * x[base + 6 + k]
+                 + d[g, 3] * x[base + 9 + k])
             u[g, k] = v
             n2 += v * v
         lg = math.sqrt(n2)
@@ -63,20 +65,20 @@ def _kinematics(x, d, length, gw, lam, u):
         for k in range(3):
             u[g, k] *= inv
         s += gw[g] * length * lg
-    a0 = math.sqrt(x[3] * x[3] + x[4] * x[4] + x[5] * x[5])
-    a1 = math.sqrt(x[9] * x[9] + x[10] * x[10] + x[11] * x[11])
+    a0 = math.sqrt(x[base + 3] ** 2 + x[base + 4] ** 2 + x[base + 5] ** 2)
+    a1 = math.sqrt(x[base + 9] ** 2 + x[base + 10] ** 2 + x[base + 11] ** 2)
     return a0, s, a1
 
 
-@njit(cache=True)
-def axial_force(x: np.ndarray, length: float, ea: float, tension_only: bool, d: np.ndarray,
+@njit(cache=True, inline="always")
+def axial_force(x: np.ndarray, base: int, length: float, ea: float, tension_only: bool, d: np.ndarray,
                 gw: np.ndarray, lam: np.ndarray, u: np.ndarray, f: np.ndarray) -> float:
     """Generalised longitudinal elastic force W(46) of one element, added to ``f``.
 
     Parameters
     ----------
-    x
-        Element nodal coordinates, shape (12,) [m, -, m, -].
+    x, base
+        Coordinates [m, -, m, -]; the element's 12 start at ``base``.
     length, ea
         Unstretched length L [m] and axial stiffness EA [N].
     tension_only
@@ -95,7 +97,7 @@ def axial_force(x: np.ndarray, length: float, ea: float, tension_only: bool, d: 
     float
         Strain energy U of the element [J].
     """
-    a0, s, a1 = _kinematics(x, d, length, gw, lam, u)
+    a0, s, a1 = _kinematics(x, base, d, length, gw, lam, u)
     ca = 0.0
     cs = 0.0
     c1 = 0.0
@@ -117,8 +119,8 @@ def axial_force(x: np.ndarray, length: float, ea: float, tension_only: bool, d: 
     inv0 = 1.0 / max(a0, _TINY)
     inv1 = 1.0 / max(a1, _TINY)
     for k in range(3):
-        f[3 + k] += ca * x[3 + k] * inv0
-        f[9 + k] += c1 * x[9 + k] * inv1
+        f[3 + k] += ca * x[base + 3 + k] * inv0
+        f[9 + k] += c1 * x[base + 9 + k] * inv1
     for g in range(d.shape[0]):
         w = cs * gw[g] * length
         for i in range(4):
@@ -129,26 +131,30 @@ def axial_force(x: np.ndarray, length: float, ea: float, tension_only: bool, d: 
 
 
 @njit(cache=True)
-def axial_tangent(x: np.ndarray, length: float, ea: float, tension_only: bool, d: np.ndarray,
-                  gw: np.ndarray, lam: np.ndarray, u: np.ndarray, scale: float, kmat: np.ndarray) -> None:
-    """Tangent stiffness dQ_l/dx of :func:`axial_force`, times ``scale``, added to ``kmat`` (12, 12)."""
-    a0, s, a1 = _kinematics(x, d, length, gw, lam, u)
+def axial_tangent(x: np.ndarray, base: int, length: float, ea: float, tension_only: bool, d: np.ndarray,
+                  gw: np.ndarray, lam: np.ndarray, u: np.ndarray, scale: float, kmat: np.ndarray,
+                  grad: np.ndarray, first: np.ndarray, hess: np.ndarray) -> None:
+    """Tangent stiffness dQ_l/dx of :func:`axial_force`, times ``scale``, added to ``kmat`` (12, 12).
+
+    ``grad`` (3, 12), ``first`` (3,) and ``hess`` (3, 3) are scratch arrays.
+    """
+    a0, s, a1 = _kinematics(x, base, d, length, gw, lam, u)
     ng = d.shape[0]
     # gradients of the decoupled coordinates (a0, s, a1) with respect to x
-    grad = np.zeros((3, 12))
+    grad[:, :] = 0.0
     inv0 = 1.0 / max(a0, _TINY)
     inv1 = 1.0 / max(a1, _TINY)
     for k in range(3):
-        grad[0, 3 + k] = x[3 + k] * inv0
-        grad[2, 9 + k] = x[9 + k] * inv1
+        grad[0, 3 + k] = x[base + 3 + k] * inv0
+        grad[2, 9 + k] = x[base + 9 + k] * inv1
     for g in range(ng):
         wl = gw[g] * length
         for i in range(4):
             for k in range(3):
                 grad[1, 3 * i + k] += wl * d[g, i] * u[g, k]
     # first and second derivatives of U/EA with respect to (a0, s, a1)
-    first = np.zeros(3)
-    hess = np.zeros((3, 3))
+    first[:] = 0.0
+    hess[:, :] = 0.0
     for g in range(ng):
         ld = d[g, 1] * a0 + d[g, 2] * s + d[g, 3] * a1
         eps = 0.5 * (ld * ld - 1.0)
@@ -175,8 +181,8 @@ def axial_tangent(x: np.ndarray, length: float, ea: float, tension_only: bool, d
     for k in range(3):
         for m in range(3):
             delta = 1.0 if k == m else 0.0
-            kmat[3 + k, 3 + m] += c * first[0] * (delta - x[3 + k] * x[3 + m] * inv0 * inv0) * inv0
-            kmat[9 + k, 9 + m] += c * first[2] * (delta - x[9 + k] * x[9 + m] * inv1 * inv1) * inv1
+            kmat[3 + k, 3 + m] += c * first[0] * (delta - x[base + 3 + k] * x[base + 3 + m] * inv0 * inv0) * inv0
+            kmat[9 + k, 9 + m] += c * first[2] * (delta - x[base + 9 + k] * x[base + 9 + m] * inv1 * inv1) * inv1
     cs = c * first[1]
     if cs != 0.0:
         for g in range(ng):
@@ -191,7 +197,7 @@ def axial_tangent(x: np.ndarray, length: float, ea: float, tension_only: bool, d
 
 
 @njit(cache=True)
-def axial_strains(x: np.ndarray, length: float, d: np.ndarray, gw: np.ndarray, lam: np.ndarray,
+def axial_strains(x: np.ndarray, base: int, length: float, d: np.ndarray, gw: np.ndarray, lam: np.ndarray,
                   u: np.ndarray, dn_at: np.ndarray, out: np.ndarray) -> None:
     """Decoupled Green strain W(45) at points of the element.
 
@@ -202,7 +208,7 @@ def axial_strains(x: np.ndarray, length: float, d: np.ndarray, gw: np.ndarray, l
     out
         Output strains eps [-], shape (k,).
     """
-    a0, s, a1 = _kinematics(x, d, length, gw, lam, u)
+    a0, s, a1 = _kinematics(x, base, d, length, gw, lam, u)
     for k in range(dn_at.shape[0]):
         ld = dn_at[k, 1] * a0 + dn_at[k, 2] / length * s + dn_at[k, 3] * a1
         out[k] = 0.5 * (ld * ld - 1.0)

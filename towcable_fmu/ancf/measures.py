@@ -54,7 +54,7 @@ def tension_profile(model: CableModel, q: np.ndarray, xi: np.ndarray) -> np.ndar
     for e in range(ne):
         length = model.el_len[e]
         slope_derivatives(model.gauss_dn, length, d)
-        axial_strains(q[6 * e:6 * e + 12], length, d, model.gauss_w, lam, u, dn, eps)
+        axial_strains(q, 6 * e, length, d, model.gauss_w, lam, u, dn, eps)
         for k in range(nk):
             ek = eps[k]
             if model.el_tension_only[e] and ek < 0.0:
@@ -162,7 +162,7 @@ def point_on_cable(model: CableModel, q: np.ndarray, e: int, xi: float) -> np.nd
     dn[0, 3] = 3.0 * xi * xi - 2.0 * xi
     eps = np.empty(1)
     base = 6 * e
-    axial_strains(q[base:base + 12], length, d, model.gauss_w, lam, u, dn, eps)
+    axial_strains(q, base, length, d, model.gauss_w, lam, u, dn, eps)
     if model.el_tension_only[e] and eps[0] < 0.0:
         eps[0] = 0.0
     n = (1.0 - 3.0 * xi**2 + 2.0 * xi**3, length * (xi - 2.0 * xi**2 + xi**3), 3.0 * xi**2 - 2.0 * xi**3,
@@ -194,7 +194,7 @@ def element_tension(model: CableModel, q: np.ndarray, e: int) -> float:
     u = np.empty((ng, 3))
     slope_derivatives(model.gauss_dn, length, d)
     eps = np.empty(ng)
-    axial_strains(q[6 * e:6 * e + 12], length, d, model.gauss_w, lam, u, model.gauss_dn, eps)
+    axial_strains(q, 6 * e, length, d, model.gauss_w, lam, u, model.gauss_dn, eps)
     total = 0.0
     for g in range(ng):
         ek = eps[g]

@@ -67,16 +67,16 @@ class CableModel(NamedTuple):
     load_length: float          #: L_PI, rest length of the link [m]
 
 
-@njit(cache=True)
-def _linear_forces(mass: np.ndarray, damp: np.ndarray, bend: np.ndarray, q: np.ndarray, v: np.ndarray,
+@njit(cache=True, inline="always")
+def _linear_forces(mass: np.ndarray, damp: np.ndarray, bend: np.ndarray, e: int, q: np.ndarray, v: np.ndarray,
                    a: np.ndarray, base: int, out: np.ndarray) -> None:
-    """out[base:base+12] += (M (x) I3) a + (C (x) I3) v + (K_b (x) I3) q for one element."""
+    """out[base:base+12] += (M (x) I3) a + (C (x) I3) v + (K_b (x) I3) q for element e."""
     for i in range(4):
         for c in range(3):
             acc = 0.0
             for j in range(4):
                 k = base + 3 * j + c
-                acc += mass[i, j] * a[k] + damp[i, j] * v[k] + bend[i, j] * q[k]
+                acc += mass[e, i, j] * a[k] + damp[e, i, j] * v[k] + bend[e, i, j] * q[k]
             out[base + 3 * i + c] += acc
 
 
@@ -114,11 +114,11 @@ def residual(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: 
     energy = 0.0
     for e in range(ne):
         base = 6 * e
-        _linear_forces(model.el_mass[e], model.el_damp[e], model.el_bend[e], q, v, a, base, out)
+        _linear_forces(model.el_mass, model.el_damp, model.el_bend, e, q, v, a, base, out)
         length = model.el_len[e]
         slope_derivatives(model.gauss_dn, length, d)
         fe[:] = 0.0
-        energy += axial_force(q[base:base + 12], length, model.el_ea[e], model.el_tension_only[e],
+        energy += axial_force(q, base, length, model.el_ea[e], model.el_tension_only[e],
                               d, model.gauss_w, lam, u, fe)
         for i in range(12):
             out[base + i] += fe[i]
@@ -214,6 +214,9 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
     lam = np.empty(ng)
     u = np.empty((ng, 3))
     ke = np.empty((12, 12))
+    grad = np.empty((3, 12))
+    first = np.empty(3)
+    hess = np.empty((3, 3))
     wet = model.water.enabled
     for e in range(ne):
         base = 6 * e
@@ -225,8 +228,8 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
                     ke[3 * i + c, 3 * j + c] = val
         length = model.el_len[e]
         slope_derivatives(model.gauss_dn, length, d)
-        axial_tangent(q[base:base + 12], length, model.el_ea[e], model.el_tension_only[e],
-                      d, model.gauss_w, lam, u, cq, ke)
+        axial_tangent(q, base, length, model.el_ea[e], model.el_tension_only[e],
+                      d, model.gauss_w, lam, u, cq, ke, grad, first, hess)
         if wet:
             cable_hydro.add_jacobian(model.water, model.hydro, model.el_len, q, v, t, e, ca, cv, cq, ke)
         band_add_block(ab, model.kl, model.ku, model.free_idx, base, ke)

@@ -32,7 +32,7 @@ def _to_ship(c: ContactModel, f: int, rot: np.ndarray, ship: np.ndarray, px: flo
             rot[0, 2] * dx + rot[1, 2] * dy + rot[2, 2] * dz - c.face_center[f, 2])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _reaches(c: ContactModel, f: int, half_d: float, x: np.ndarray, base: int, length: float, rot: np.ndarray,
              ship: np.ndarray) -> bool:
     """Can element (coordinates at base) touch face f? Bounding sphere of its Bezier polygon."""
@@ -79,16 +79,22 @@ def _inertial_force(c: ContactModel, f: int, half_d: float, rot: np.ndarray, rot
             rot[2, 0] * fx + rot[2, 1] * fy + rot[2, 2] * fz, g, energy)
 
 
-@njit(cache=True)
-def _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, xi, wt, g, cross, fpt):
-    """Active quadrature of face f on one element; forces and stored energy density at all its
-    points into ``fpt`` (columns fx, fy, fz [N/m], energy [J/m])."""
+@njit(cache=True, inline="always")
+def _element_points(q, v, base, length, npts, pts):
+    """Positions and velocities (inertial) of the element's grid points into pts (npts, 6)."""
     for j in range(npts):
         n = hermite(j / (npts - 1), length)
-        rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
-        vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
-        fpt[j, 0], fpt[j, 1], fpt[j, 2], g[j], fpt[j, 3] = _inertial_force(c, f, half_d, rot, rot1, ship,
-                                                                           rx, ry, rz, vx, vy, vz)
+        pts[j, 0], pts[j, 1], pts[j, 2] = interpolate(q, base, n[0], n[1], n[2], n[3])
+        pts[j, 3], pts[j, 4], pts[j, 5] = interpolate(v, base, n[0], n[1], n[2], n[3])
+
+
+@njit(cache=True, inline="always")
+def _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, pts, xi, wt, g, cross, fpt):
+    """Active quadrature of face f on one element (grid points in ``pts``); forces and stored
+    energy density at all its points into ``fpt`` (columns fx, fy, fz [N/m], energy [J/m])."""
+    for j in range(npts):
+        fpt[j, 0], fpt[j, 1], fpt[j, 2], g[j], fpt[j, 3] = _inertial_force(
+            c, f, half_d, rot, rot1, ship, pts[j, 0], pts[j, 1], pts[j, 2], pts[j, 3], pts[j, 4], pts[j, 5])
     count = active_quadrature(length, npts, g, xi, wt, cross)
     for p in range(npts, count):
         n = hermite(xi[p], length)
@@ -96,6 +102,22 @@ def _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, xi
         vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
         fpt[p, 0], fpt[p, 1], fpt[p, 2], _, fpt[p, 3] = _inertial_force(c, f, half_d, rot, rot1, ship, rx, ry,
                                                                         rz, vx, vy, vz)
+    return count
+
+
+@njit(cache=True, inline="always")
+def _touching_faces(c, half_d, q, base, length, rot, ship, faces) -> int:
+    """Faces element (at base) can touch, into ``faces``; the bounding test runs once per surface."""
+    count = 0
+    surface = -1
+    reach = False
+    for f in range(c.face_kind.shape[0]):
+        if c.face_surface[f] != surface:
+            surface = c.face_surface[f]
+            reach = _reaches(c, f, half_d, q, base, length, rot, ship)
+        if reach:
+            faces[count] = f
+            count += 1
     return count
 
 
@@ -110,16 +132,21 @@ def add_residual(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_npts:
     g = np.empty(m)
     cross = np.empty(m, dtype=np.int64)
     fpt = np.empty((m, 4))
+    pts = np.empty((m, 6))
+    faces = np.empty(c.face_kind.shape[0], dtype=np.int64)
     evaluations = 0
     for e in range(el_len.shape[0]):
         base = 6 * e
         length = el_len[e]
         half_d = 0.5 * el_d[e]
         npts = el_npts[e]
-        for f in range(c.face_kind.shape[0]):
-            if not _reaches(c, f, half_d, q, base, length, rot, ship):
-                continue
-            count = _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, xi, wt, g, cross, fpt)
+        nfaces = _touching_faces(c, half_d, q, base, length, rot, ship, faces)
+        if nfaces:
+            _element_points(q, v, base, length, npts, pts)
+        for k in range(nfaces):
+            f = faces[k]
+            count = _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, pts, xi, wt, g, cross,
+                                     fpt)
             evaluations += count
             for p in range(count):
                 wp = wt[p]
@@ -155,16 +182,21 @@ def add_jacobian(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_npts:
     jac = np.empty((3, 6))
     state = np.empty(6)
     ke = np.empty((12, 12))
+    pts = np.empty((m, 6))
+    faces = np.empty(c.face_kind.shape[0], dtype=np.int64)
     for e in range(el_len.shape[0]):
         base = 6 * e
         length = el_len[e]
         half_d = 0.5 * el_d[e]
         npts = el_npts[e]
         touched = False
-        for f in range(c.face_kind.shape[0]):
-            if not _reaches(c, f, half_d, q, base, length, rot, ship):
-                continue
-            count = _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, xi, wt, g, cross, fpt)
+        nfaces = _touching_faces(c, half_d, q, base, length, rot, ship, faces)
+        if nfaces:
+            _element_points(q, v, base, length, npts, pts)
+        for kf in range(nfaces):
+            f = faces[kf]
+            count = _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, pts, xi, wt, g, cross,
+                                     fpt)
             active = False
             for p in range(npts):
                 active = active or wt[p] > 0.0
@@ -255,17 +287,22 @@ def surface_summary(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_np
     g = np.empty(m)
     cross = np.empty(m, dtype=np.int64)
     fpt = np.empty((m, 4))
+    pts = np.empty((m, 6))
+    faces = np.empty(c.face_kind.shape[0], dtype=np.int64)
     rows = 0
     for e in range(el_len.shape[0]):
         base = 6 * e
         length = el_len[e]
         half_d = 0.5 * el_d[e]
         npts = el_npts[e]
-        for f in range(c.face_kind.shape[0]):
-            if not _reaches(c, f, half_d, q, base, length, rot, ship):
-                continue
+        nfaces = _touching_faces(c, half_d, q, base, length, rot, ship, faces)
+        if nfaces:
+            _element_points(q, v, base, length, npts, pts)
+        for kf in range(nfaces):
+            f = faces[kf]
             s = c.face_surface[f]
-            count = _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, xi, wt, g, cross, fpt)
+            count = _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, pts, xi, wt, g, cross,
+                                     fpt)
             for p in range(count):
                 n = hermite(xi[p], length)
                 rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])

@@ -118,6 +118,7 @@ def face_force(c: ContactModel, f: int, half_d: float, x: float, y: float, z: fl
         g = min(delta, min(c.face_depth[f] - h, c.face_open[f] - abs(y)))
     if delta <= 0.0:
         return 0.0, 0.0, 0.0, g, 0.0
-    elastic = c.face_k[f] * delta ** c.face_n[f]
+    n = c.face_n[f]
+    elastic = c.face_k[f] * (delta * math.sqrt(delta) if n == 1.5 else delta ** n)
     mag = elastic * max(1.0 + c.face_damping[f] * ddelta, 0.0)
-    return mag * nx, mag * ny, mag * nz, g, elastic * delta / (c.face_n[f] + 1.0)
+    return mag * nx, mag * ny, mag * nz, g, elastic * delta / (n + 1.0)

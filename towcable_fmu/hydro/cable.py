@@ -38,7 +38,7 @@ from numba import njit
 
 from ..ancf.partial import active_quadrature, crossing_stiffness, hermite, interpolate
 from .loading import drag_coefficient, loading_functions
-from .water import WaterModel, mean_flow, turbulence
+from .water import CURRENT_LINEAR, WaterModel, mean_flow, turbulence
 
 _TINY = 1e-12
 
@@ -130,7 +130,7 @@ def _is_dry(w: WaterModel, x: np.ndarray, base: int, length: float) -> bool:
     return min(min(z0, z1), min(c0, c1)) > w.surface_z
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _quadrature(w: WaterModel, x: np.ndarray, base: int, length: float, npts: int, xi: np.ndarray,
                 wt: np.ndarray, g: np.ndarray, cross: np.ndarray) -> int:
     """Submerged quadrature points of one element (indicator: depth below the surface)."""
@@ -209,7 +209,8 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
     count = _quadrature(w, q, base, length, npts, xi, wt, g, cross)
     kind, d, area, cd, gamp, cm = hy.el_kind[e], hy.el_d[e], hy.el_area[e], hy.el_cd[e], hy.el_g[e], hy.el_cm[e]
     rho_a_cm = w.density * area * cm
-    jac = np.empty((3, 7))  # columns: d/dv (3), d/dp (3), d/dz
+    jac = np.zeros((3, 7))  # columns: d/dv (3), d/dp (3), d/dz (zero unless the current varies with depth)
+    depth_varies = w.current_kind == CURRENT_LINEAR
     pert = np.empty(7)
     for p in range(count):
         wp = wt[p]
@@ -222,7 +223,7 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
         state = (vx, vy, vz, px, py, pz, rz)
         f0 = point_load(w, kind, d, area, cd, gamp, cm, t, rz, px, py, pz, vx, vy, vz, 0.0, 0.0, 0.0)
         fpt[p, 0], fpt[p, 1], fpt[p, 2] = f0
-        for k in range(7):
+        for k in range(7 if depth_varies else 6):
             for j in range(7):
                 pert[j] = state[j]
             h = 1e-7 * max(1.0, abs(state[k]))
