@@ -83,6 +83,9 @@ class IrregularSea(MotionSource):
         self.encounter_frequency = omega - omega ** 2 * self.speed * math.cos(self.heading) / GRAVITY
         #: Complex response amplitudes a_i H_j(omega_i), shape (N, 6).
         self.response = self.waves.amplitude[:, None] * rao(omega, self.heading, self.speed)
+        we = self.encounter_frequency
+        # d^k/dt^k of exp(i omega_e t), k = 0, 1, 2, as factors of the phasor, shape (3, N)
+        self._orders = np.stack([np.ones_like(we), 1j * we, -(we ** 2)]).astype(complex)
 
     def _phasors(self, times: np.ndarray) -> np.ndarray:
         return np.exp(1j * (np.outer(times, self.encounter_frequency) + self.waves.phase))
@@ -98,6 +101,18 @@ class IrregularSea(MotionSource):
             signal[1, part] = ((e * (1j * we)) @ self.response).real
             signal[2, part] = ((e * -(we ** 2)) @ self.response).real
         return modulate(ramp(times, self.ramp), signal).transpose(1, 0, 2)
+
+    def evaluate(self, t: float) -> np.ndarray:
+        """Ship state (3, 6) at one time [s]: the sums of :meth:`evaluate_many` without batching
+        (one phasor per component, one product with the responses)."""
+        t = float(t)
+        if not math.isfinite(t):
+            raise ValueError("times must be finite")
+        e = np.exp(1j * (t * self.encounter_frequency + self.waves.phase))
+        signal = ((self._orders * e) @ self.response).real
+        if self.ramp > 0.0 and t < self.ramp:
+            return modulate(ramp(np.array([t]), self.ramp), signal[:, None, :])[:, 0, :]
+        return signal
 
     def wave_elevation(self, t: ArrayLike) -> np.ndarray:
         """Undisturbed wave elevation [m] at the ship's CG (moving with it), not ramped.

@@ -104,9 +104,11 @@ def all_sources():
 
 def test_interface_shapes_and_descriptions():
     for source in all_sources():
-        many = source.evaluate_many(np.array([1.0, 2.5, 7.0]))
-        assert many.shape == (3, 3, 6)
+        many = source.evaluate_many(np.array([1.0, 2.5, 7.0, 29.3]))
+        assert many.shape == (4, 3, 6)
+        # single-time evaluation (the FMUs' path) agrees with the batched one, in and after ramps
         np.testing.assert_allclose(source.evaluate(2.5), many[1], rtol=1e-12, atol=1e-15)
+        np.testing.assert_allclose(source.evaluate(29.3), many[3], rtol=1e-12, atol=1e-14)
         assert source.evaluate(2.5).shape == (3, 6)
         text = source.description
         assert isinstance(text, str) and text and "\n" not in text

@@ -172,6 +172,10 @@ class FmuInstance:
         """All Real outputs (contract order) in one fmi2GetReal."""
         return np.array(self.fmu.getReal(self.real_output_vrs))
 
+    def real_block(self, vrs: Sequence[int]) -> "RealBlock":
+        """Buffers for reading or writing the same Real variables at every step."""
+        return RealBlock(self.fmu, vrs)
+
     def free(self) -> None:
         """fmi2Terminate, fmi2FreeInstance, remove the extracted files."""
         if self.active:
@@ -182,6 +186,34 @@ class FmuInstance:
                 pass
             self.fmu.freeInstance()
         shutil.rmtree(self.unzipdir, ignore_errors=True)
+
+
+class RealBlock:
+    """Preallocated value-reference and value arrays for one repeated fmi2GetReal/fmi2SetReal.
+
+    ``values`` is a numpy view of the value buffer: :meth:`read` fills it, :meth:`write`
+    sends it. The calls go through fmpy's checked function table (a status above
+    warning raises ``FMICallException``) without building ctypes arrays each time.
+    """
+
+    def __init__(self, fmu, vrs: Sequence[int]) -> None:
+        from fmpy.fmi2 import fmi2Real, fmi2ValueReference
+
+        self._fmu = fmu
+        self._n = len(vrs)
+        self._vr = (fmi2ValueReference * self._n)(*vrs)
+        self._buffer = (fmi2Real * self._n)()
+        self.values = np.frombuffer(self._buffer, dtype=np.float64) if self._n else np.empty(0)
+
+    def read(self) -> np.ndarray:
+        """fmi2GetReal into :attr:`values` (returned; overwritten by the next read)."""
+        self._fmu.fmi2GetReal(self._fmu.component, self._vr, self._n, self._buffer)
+        return self.values
+
+    def write(self) -> None:
+        """fmi2SetReal of :attr:`values`."""
+        if self._n:
+            self._fmu.fmi2SetReal(self._fmu.component, self._vr, self._n, self._buffer)
 
 
 # ---------------------------------------------------------------------------- configuration
@@ -423,28 +455,55 @@ def _routes(inst: Mapping[str, FmuInstance], target: str) -> tuple[list[int], li
     return vrs, sources
 
 
+class _Exchange:
+    """The connections of the system as block copies between preallocated buffers.
+
+    ``outputs[name]`` holds the FMU's Real outputs as last read; :meth:`feed` gathers a
+    target's inputs from them and sends them in one fmi2SetReal.
+    """
+
+    def __init__(self, inst: Mapping[str, FmuInstance], order: Sequence[str]) -> None:
+        self.outputs = {name: inst[name].real_block(inst[name].real_output_vrs) for name in order}
+        self.inputs: dict[str, RealBlock] = {}
+        self.gathers: dict[str, list[tuple[str, np.ndarray, np.ndarray]]] = {}
+        for name in order:
+            vrs, sources = _routes(inst, name)
+            self.inputs[name] = inst[name].real_block(vrs)
+            by_source: dict[str, tuple[list[int], list[int]]] = {}
+            for k, (src, index) in enumerate(sources):
+                src_idx, dst_idx = by_source.setdefault(src, ([], []))
+                src_idx.append(index)
+                dst_idx.append(k)
+            self.gathers[name] = [(src, np.array(a, dtype=np.intp), np.array(b, dtype=np.intp))
+                                  for src, (a, b) in by_source.items()]
+
+    def feed(self, target: str) -> None:
+        """Copy the connected outputs into the target's inputs and set them (one fmi2SetReal)."""
+        block = self.inputs[target]
+        for src, src_idx, dst_idx in self.gathers[target]:
+            block.values[dst_idx] = self.outputs[src].values[src_idx]
+        block.write()
+
+
 def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], params: dict, geometry: dict,
          n_steps: int, stride: int, progress, t_init: float) -> CosimResult:
     t0, h = config.start_time, config.step
     ship, ctrl, cable = inst["ShipMotion"], inst["HeaveCompensation"], inst["TowCable"]
-    routes = {name: _routes(inst, name) for name in order}
-    latest: dict[str, np.ndarray] = {}
-
-    def inputs(target: str) -> list[float]:
-        return [float(latest[src][i]) for src, i in routes[target][1]]
+    io = _Exchange(inst, order)
+    out = io.outputs
 
     # ---- initialisation (see the module docstring)
     ship.exit_initialization()
-    latest["ShipMotion"] = ship.get_outputs()
+    out["ShipMotion"].read()
     phi_sp_index = ctrl.real_outputs.index("winch.phi_sp")
-    latest["HeaveCompensation"] = np.zeros(len(ctrl.real_outputs))
-    latest["HeaveCompensation"][phi_sp_index] = geometry["phi_nom"]
-    cable.fmu.setReal(routes["TowCable"][0], inputs("TowCable"))
+    out["HeaveCompensation"].values[:] = 0.0  # the nominal set-point until the controller runs
+    out["HeaveCompensation"].values[phi_sp_index] = geometry["phi_nom"]
+    io.feed("TowCable")
     cable.exit_initialization()
-    latest["TowCable"] = cable.get_outputs()
+    out["TowCable"].read()
     theta_source = "given"
     if "theta_nom" not in params["HeaveCompensation"]:
-        values = dict(zip(cable.real_outputs, latest["TowCable"]))
+        values = dict(zip(cable.real_outputs, out["TowCable"].values))
         angle_name = "sheave_angle"  # departure from the sheave, or the drum without a sheave
         theta = float(values[angle_name])
         if not (0.0 <= theta < 0.5 * math.pi):
@@ -454,41 +513,39 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
         theta_source = f"static {angle_name} of the cable at t0"
     geometry = {**geometry, "theta_nom": params["HeaveCompensation"]["theta_nom"],
                 "source": {**geometry["source"], "theta_nom": theta_source}}
-    ctrl.fmu.setReal(routes["HeaveCompensation"][0], inputs("HeaveCompensation"))
+    io.feed("HeaveCompensation")
     ctrl.exit_initialization()
     init_wall = time.perf_counter() - t_init
 
     # ---- the loop
-    names = ["time"] + [v.name for name in order for v in inst[name].spec.outputs if not v.diagnostic]
-    columns = {name: [] for name in names}
-    ctrl_vrs = routes["HeaveCompensation"][0]
-    cable_vrs = routes["TowCable"][0]
-    ctrl_out_vrs = ctrl.real_output_vrs
+    n_rows = n_steps // stride + 1
+    rec_time = np.empty(n_rows)
+    rec_index = {name: np.array([i for i, n in enumerate(inst[name].real_outputs)
+                                 if not contract.signals()[n].diagnostic], dtype=np.intp) for name in order}
+    rec = {name: np.empty((n_rows, rec_index[name].size)) for name in order}
+    rec_bool = np.empty((n_rows, len(cable.bool_outputs)))
     model_index = {name: inst[name].real_outputs.index("model_wall_time") for name in order}
-    model_start = {name: float(latest[name][model_index[name]]) for name in ("ShipMotion", "TowCable")}
+    model_start = {name: float(out[name].values[model_index[name]]) for name in ("ShipMotion", "TowCable")}
     model_start["HeaveCompensation"] = float(np.asarray(ctrl.fmu.getReal([ctrl.variables["model_wall_time"]
                                                                           .valueReference]))[0])
-    bools = np.array(cable.fmu.getBoolean(cable.bool_output_vrs), dtype=float) if cable.bool_outputs else None
     step_time = {name: 0.0 for name in order}
     io_time = 0.0
-    record_names = [(name, [(i, n) for i, n in enumerate(inst[name].real_outputs)
-                            if not contract.signals()[n].diagnostic]) for name in order]
+    row = 0
 
     def record(t: float) -> None:
-        columns["time"].append(t)
-        for name, items in record_names:
-            row = latest[name]
-            for i, n in items:
-                columns[n].append(row[i])
-            if name == "TowCable" and bools is not None:
-                for n, b in zip(cable.bool_outputs, bools):
-                    columns[n].append(b)
+        nonlocal row
+        rec_time[row] = t
+        for name in order:
+            rec[name][row] = out[name].values[rec_index[name]]
+        if cable.bool_outputs:
+            rec_bool[row] = cable.fmu.getBoolean(cable.bool_output_vrs)
+        row += 1
 
-    def control(t: float) -> None:
+    def control() -> None:
         nonlocal io_time
         a = time.perf_counter()
-        ctrl.fmu.setReal(ctrl_vrs, inputs("HeaveCompensation"))
-        latest["HeaveCompensation"] = np.array(ctrl.fmu.getReal(ctrl_out_vrs))
+        io.feed("HeaveCompensation")
+        out["HeaveCompensation"].read()
         io_time += time.perf_counter() - a
 
     def do_step(fmu: FmuInstance, t: float, dt: float) -> None:
@@ -509,29 +566,27 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
         t = t0 + k * h
         t_next = t0 + (k + 1) * h
         dt = t_next - t
-        control(t)
+        control()
         if k % stride == 0:
             record(t)
         a = time.perf_counter()
-        cable.fmu.setReal(cable_vrs, inputs("TowCable"))
+        io.feed("TowCable")
         io_time += time.perf_counter() - a
         for name in order:
             do_step(inst[name], t, dt)
         a = time.perf_counter()
-        latest["ShipMotion"] = ship.get_outputs()
-        latest["TowCable"] = cable.get_outputs()
-        if bools is not None:
-            bools = np.array(cable.fmu.getBoolean(cable.bool_output_vrs), dtype=float)
+        out["ShipMotion"].read()
+        out["TowCable"].read()
         io_time += time.perf_counter() - a
         if progress is not None:
             progress(t_next, t0 + n_steps * h)
     t_end = t0 + n_steps * h
-    control(t_end)
+    control()
     if n_steps % stride == 0:
         record(t_end)
     wall = time.perf_counter() - loop_start
 
-    model = {name: float(latest[name][model_index[name]]) - model_start[name] for name in order}
+    model = {name: float(out[name].values[model_index[name]]) - model_start[name] for name in order}
     timing = {"wall": wall, "initialisation": init_wall, "get_set": io_time, "model": sum(model.values()),
               "overhead_share": 1.0 - sum(model.values()) / wall if wall > 0 else float("nan"),
               "realtime_factor": (t_end - t0) / wall if wall > 0 else float("inf"),
@@ -539,7 +594,14 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
     for name in order:
         timing[f"do_step.{name}"] = step_time[name]
         timing[f"model.{name}"] = model[name]
-    series = {name: np.asarray(values, dtype=float) for name, values in columns.items()}
+    series = {"time": rec_time[:row].copy()}
+    for name in order:
+        columns = dict(zip((inst[name].real_outputs[i] for i in rec_index[name]), rec[name][:row].T))
+        if name == "TowCable":
+            columns.update(zip(cable.bool_outputs, rec_bool[:row].T))
+        for var in inst[name].spec.outputs:
+            if not var.diagnostic:
+                series[var.name] = np.ascontiguousarray(columns[var.name])
     return CosimResult(series=series, parameters={k: dict(v) for k, v in params.items()}, geometry=geometry,
                        timing=timing)
 

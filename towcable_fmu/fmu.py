@@ -25,7 +25,6 @@ Inputs: the 18 ``ship.*`` signals and ``winch.phi_sp``, ``winch.phi_sp_rate``.
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 from pythonfmu.enums import Fmi2Status
@@ -102,10 +101,11 @@ class TowCable(ContractSlave):
         except Exception as exc:  # SolverError and anything unexpected: the state is unchanged
             self.log_error(f"step from t = {t:.6g} s by {dt:.6g} s failed: {exc}", Fmi2Status.discard)
             return False
-        if not all(math.isfinite(float(v)) for v in out.values()):
-            self.log_error(f"non-finite outputs at t = {t + dt:.6g} s", Fmi2Status.discard)
+        try:
+            self.set_outputs(out)
+        except ValueError as exc:  # nothing copied: the outputs keep their last valid values
+            self.log_error(f"non-finite outputs at t = {t + dt:.6g} s: {exc}", Fmi2Status.discard)
             return False
-        self.set_outputs(out)
         return True
 
     def _model_state(self) -> Any:

@@ -7,7 +7,6 @@ and the benchmarks all drive this same object.
 
 from __future__ import annotations
 
-import copy
 import math
 from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping
@@ -16,14 +15,12 @@ import numpy as np
 
 from . import drive as drive_poly
 from .ancf import element, initial_shape, measures
-from .ancf.measures import element_tension, point_on_cable
 from .ancf.mesh import Mesh, build_mesh, build_model, winch_radius
 from .ancf.prescribed import apply_prescribed
 from .ancf.system import CableModel, residual
 from .contact.cable import surface_summary
-from .contact.surfaces import SHEAVE, WINCH
+from .output_kernel import OUTPUT_FIELDS, output_values
 from .errors import SceneError, SolverError
-from .hydro.towbody import body_force
 from .kinematics import rotation_matrix
 from .hydro.turbulence import TurbulenceSeries
 from .numerics import genalpha
@@ -106,6 +103,10 @@ class Simulation:
         self._setpoint = (0.0, 0.0)
         self._initialized = False
         self._last_outputs: dict[str, float] = {}
+        self._payout_radius = winch_radius(scene) if scene.winch is not None else 0.0  # r_w + d/2 [m]
+        # sheave centre in the ship frame [m] (NaN: none), for the compiled outputs
+        self._sheave_position = np.array(scene.sheave.position if scene.sheave is not None else [np.nan] * 3,
+                                         dtype=float)
 
     @classmethod
     def from_scene(cls, name_or_path: str | Path,
@@ -176,7 +177,7 @@ class Simulation:
             theta = self.scene.compensation.get("theta_nom")
             if theta is None:  # the model's own steady-state departure angle (sheave, or drum)
                 self.workspace.ship[:, :] = ship0
-                theta = self._contact_outputs(0.0)["sheave_angle"]
+                theta = self.outputs()["sheave_angle"]
             self.compensation = SetpointAlgorithm(compensation_config(self.scene, float(theta)))
             if setpoint is None:
                 sp = self.compensation.compute(ship0, None)
@@ -443,36 +444,43 @@ class Simulation:
         """
         st = self.state
         m = self.model
-        vals = measures.summary(m, st.q, st.v, st.a, self.time, self.workspace.ship, _PROFILE_XI, self.workspace.r)
-        (reaction_top, reaction_bottom, t_first, t_last, t_max, t_min, kinetic, strain, gravity) = vals
-        top = reaction_top if m.free_idx[0] < 0 else max(t_first, 0.0)
-        bottom = reaction_bottom if m.free_idx[-6] < 0 else max(t_last, 0.0)
-        out: dict[str, float] = {"time": self.time, "tension.top": float(top), "tension.bottom": float(bottom),
-                                 "tension.max": float(max(t_max, top, bottom)), "tension.min": float(t_min),
+        sheave = self._sheave_position
+        body_weight = -1.0 if self.scene.towbody is None else self.scene.towbody.mass * self.scene.environment.gravity
+        vals = dict(zip(OUTPUT_FIELDS, output_values(m, st.q, st.v, st.a, self.time, self.workspace.ship, _PROFILE_XI,
+                                                     body_weight, self.scene.winch is not None, sheave,
+                                                     self.workspace.r).tolist()))
+        top = vals["reaction_top"] if m.free_idx[0] < 0 else max(vals["tension_first"], 0.0)
+        bottom = vals["reaction_bottom"] if m.free_idx[-6] < 0 else max(vals["tension_last"], 0.0)
+        out: dict[str, float] = {"time": self.time, "tension.top": top, "tension.bottom": bottom,
+                                 "tension.max": max(vals["tension_max"], top, bottom),
+                                 "tension.min": vals["tension_min"],
                                  "angle.top": measures.angle_from_vertical(st.q[3:6])}
         if self.scene.towbody is not None:
             last = st.q.size - 6
-            # force of the cable on the body: m a minus the body's own external forces
-            hydro = np.zeros(3)
-            if m.body.enabled:
-                body_force(m.water, m.body, st.q[last:last + 3], st.v[last:last + 3], st.a[last:last + 3],
-                           self.time, hydro)
-            body_external = hydro + np.array([0.0, 0.0, -self.scene.towbody.mass * self.scene.environment.gravity])
-            force = m.node_mass[-1] * st.a[last:last + 3] - body_external
-            out["tension.towbody"] = float(np.linalg.norm(force))
+            out["tension.towbody"] = vals["tension_towbody"]
             for k, c in enumerate("xyz"):
                 out[f"towbody.{c}"] = float(st.q[last + k])
                 out[f"towbody.v{c}"] = float(st.v[last + k])
         if m.load_on:
             out.update(self._load_outputs())
         if m.contact.enabled:
-            out.update(self._contact_outputs(float(top)))
-        out["energy.kinetic"] = float(kinetic)
-        out["energy.strain"] = float(strain)
-        out["energy.gravity"] = float(gravity)
+            out["contact.winch_force"] = vals["winch_force"]
+            out["contact.sheave_force"] = vals["sheave_force"]
+            out["energy.contact"] = vals["energy_contact"]
+            if self.scene.winch is not None:
+                out["tension.winch"] = vals["tension_winch"]
+            if self.scene.winch is not None or self.scene.sheave is not None:
+                out["sheave_angle"] = vals["sheave_angle"]
+            if self.scene.sheave is not None:
+                out["tension.sheave"] = vals["tension_sheave"]
+                out["contact.wrap_angle"] = vals["wrap_angle"]
+                out["contact.detached"] = vals["detached"]
+        out["energy.kinetic"] = vals["energy_kinetic"]
+        out["energy.strain"] = vals["energy_strain"]
+        out["energy.gravity"] = vals["energy_gravity"]
         out["winch.phi"] = float(st.phi[0])
         if self.scene.winch is not None:
-            out["winch.payout"] = winch_radius(self.scene) * (self.scene.winch.phi_nom - float(st.phi[0]))
+            out["winch.payout"] = self._payout_radius * (self.scene.winch.phi_nom - float(st.phi[0]))
         return out
 
     def _load_outputs(self) -> dict[str, float]:
@@ -520,43 +528,6 @@ class Simulation:
                                self.workspace.ship, force, span, ends, lowest, energy, dist)
         return {"force": force, "span": span, "ends": ends, "lowest": lowest, "energy": energy,
                 "distribution": dist[:rows]}
-
-    def _contact_outputs(self, top_tension: float) -> dict[str, float]:
-        """Winch and sheave outputs: contact forces, departure tension and angle, wrap, detachment."""
-        c = self.contact_state()
-        out: dict[str, float] = {"contact.winch_force": float(np.linalg.norm(c["force"][WINCH])),
-                                 "contact.sheave_force": float(np.linalg.norm(c["force"][SHEAVE])),
-                                 "energy.contact": float(c["energy"].sum())}
-        rot = rotation_matrix(*self.workspace.ship[0, 3:6])
-        last = self.mesh.n_elements - 1
-        if self.scene.winch is not None:
-            e, xi = c["ends"][WINCH, 2:]
-            leave = point_on_cable(self.model, self.state.q, int(max(e, 0)), xi if e >= 0 else 0.0)
-            # the force carried just off the drum: the mean over the next element
-            out["tension.winch"] = (element_tension(self.model, self.state.q, min(int(e) + 1, last)) if e >= 0
-                                    else top_tension)
-            if self.scene.sheave is None:  # the cable departs from the drum: its angle plays the sheave's role
-                u = rot.T @ leave[3:6]
-                out["sheave_angle"] = float(np.arctan2(-u[0], -u[2]))
-        if self.scene.sheave is not None:
-            e0, xi0, e, xi = c["ends"][SHEAVE]
-            if e < 0:  # not touching: where the cable passes closest to the sheave
-                centre = rot @ np.array(self.scene.sheave.position) + self.workspace.ship[0, :3]
-                node = int(np.argmin(np.linalg.norm(self.node_positions() - centre, axis=1)))
-                e, xi = (node, 0.0) if node < self.mesh.n_elements else (node - 1, 1.0)
-            leave = point_on_cable(self.model, self.state.q, int(e), xi)
-            # the force carried just off the sheave: the mean over the next element
-            out["tension.sheave"] = element_tension(self.model, self.state.q, min(int(e) + 1, last))
-            u = rot.T @ leave[3:6]  # ship frame
-            out["sheave_angle"] = float(np.arctan2(-u[0], -u[2]))
-            if e0 >= 0:  # the wrap: how far the cable turns between meeting and leaving the sheave
-                u0 = rot.T @ point_on_cable(self.model, self.state.q, int(e0), xi0)[3:6]
-                turn = u0[0] * u[2] - u0[2] * u[0]
-                out["contact.wrap_angle"] = float(abs(np.arctan2(turn, u0[0] * u[0] + u0[2] * u[2])))
-            else:
-                out["contact.wrap_angle"] = 0.0
-            out["contact.detached"] = float(c["lowest"][SHEAVE] > 0.0)
-        return out
 
     def statistics(self) -> dict[str, float]:
         """Solver counters since initialisation, plus the statics result."""

@@ -6,7 +6,7 @@ import numpy as np
 from numba import njit
 
 from .axial import axial_strains, slope_derivatives
-from .system import CableModel, residual
+from .system import CableModel, residual_span
 
 #: Entries of the array returned by :func:`summary`.
 SUMMARY_FIELDS = ("reaction_top", "reaction_bottom", "tension_first", "tension_last", "tension_max",
@@ -110,23 +110,54 @@ def summary(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: f
     """The scalar outputs of a state in one compiled pass (order: :data:`SUMMARY_FIELDS`).
 
     Reactions are the magnitudes of the residual at the end nodes' position rows
-    (zero at a free end); ``r`` receives the full residual.
+    (zero at a free end), evaluated over the end elements only; the tension extremes
+    are taken over ``xi`` in every element; ``r`` (shape (nf,)) is scratch.
     """
     out = np.zeros(len(SUMMARY_FIELDS))
-    axial = residual(model, q, v, a, t, ship, r)
+    ne = model.el_len.shape[0]
     last = q.shape[0] - 6
-    for c in range(3):
-        if model.free_idx[c] < 0:
-            out[0] += r[c] * r[c]
-        if model.free_idx[last + c] < 0:
-            out[1] += r[last + c] * r[last + c]
-    out[0] = np.sqrt(out[0])
-    out[1] = np.sqrt(out[1])
-    prof = tension_profile(model, q, xi)
-    out[2] = prof[0, 0]
-    out[3] = prof[-1, -1]
-    out[4] = prof.max()
-    out[5] = prof.min()
+    if model.free_idx[0] < 0:
+        residual_span(model, q, v, a, t, ship, 0, 1, r)
+        out[0] = np.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
+    if model.free_idx[last] < 0:
+        residual_span(model, q, v, a, t, ship, ne - 1, ne, r)
+        out[1] = np.sqrt(r[last] ** 2 + r[last + 1] ** 2 + r[last + 2] ** 2)
+    ng = model.gauss_w.shape[0]
+    nk = xi.shape[0]
+    d = np.empty((ng, 4))
+    lam = np.empty(ng)
+    u = np.empty((ng, 3))
+    dn = np.empty((nk + ng, 4))  # rows: the output points xi, then the Gauss points
+    for k in range(nk):
+        x = xi[k]
+        dn[k, 0] = -6.0 * x + 6.0 * x * x
+        dn[k, 1] = 1.0 - 4.0 * x + 3.0 * x * x
+        dn[k, 2] = 6.0 * x - 6.0 * x * x
+        dn[k, 3] = 3.0 * x * x - 2.0 * x
+    dn[nk:] = model.gauss_dn
+    eps = np.empty(nk + ng)
+    t_max, t_min, axial = -np.inf, np.inf, 0.0
+    for e in range(ne):
+        length = model.el_len[e]
+        ea = model.el_ea[e]
+        slope_derivatives(model.gauss_dn, length, d)
+        axial_strains(q, 6 * e, length, d, model.gauss_w, lam, u, dn, eps)
+        for k in range(nk + ng):
+            ek = eps[k]
+            if model.el_tension_only[e] and ek < 0.0:
+                ek = 0.0
+            if k < nk:
+                tension = ea * ek * np.sqrt(max(1.0 + 2.0 * ek, 0.0))
+                t_max = max(t_max, tension)
+                t_min = min(t_min, tension)
+                if e == 0 and k == 0:
+                    out[2] = tension
+                if e == ne - 1 and k == nk - 1:
+                    out[3] = tension
+            else:
+                axial += 0.5 * ea * model.gauss_w[k - nk] * length * ek * ek
+    out[4] = t_max
+    out[5] = t_min
     out[6] = kinetic_energy(model, v)
     out[7] = axial + bending_energy(model, q)
     out[8] = gravity_energy(model, q)

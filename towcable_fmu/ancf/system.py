@@ -103,7 +103,20 @@ def residual(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: 
     float
         Total axial strain energy [J] (a by-product, used for energy outputs).
     """
-    ne = model.el_len.shape[0]
+    return residual_span(model, q, v, a, t, ship, 0, model.el_len.shape[0], out)
+
+
+@njit(cache=True)
+def residual_span(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: float, ship: np.ndarray,
+                  first: int, stop: int, out: np.ndarray) -> float:
+    """The residual with the contributions of elements ``first`` to ``stop - 1`` only.
+
+    The rows of a node are complete when all elements it belongs to are in the span:
+    ``(0, 1)`` gives the top node's rows (its support reaction) at the cost of one
+    element. Node masses of the span's nodes are included; the rigid load and the towed
+    body's hydrodynamics when the span ends at the last element. Arguments as
+    :func:`residual`; returns the axial strain energy of the span [J].
+    """
     ng = model.gauss_w.shape[0]
     d = np.empty((ng, 4))
     lam = np.empty(ng)
@@ -112,7 +125,7 @@ def residual(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: 
     for i in range(out.shape[0]):
         out[i] = -model.f_const[i]
     energy = 0.0
-    for e in range(ne):
+    for e in range(first, stop):
         base = 6 * e
         _linear_forces(model.el_mass, model.el_damp, model.el_bend, e, q, v, a, base, out)
         length = model.el_len[e]
@@ -122,18 +135,18 @@ def residual(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: 
                               d, model.gauss_w, lam, u, fe)
         for i in range(12):
             out[base + i] += fe[i]
-    nn = model.node_mass.shape[0]
-    for n in range(nn):
+    for n in range(first, stop + 1):
         for c in range(3):
             out[6 * n + c] += model.node_mass[n, c] * a[6 * n + c]
-    if model.load_on:
+    to_end = stop == model.el_len.shape[0]
+    if model.load_on and to_end:
         _load_residual(model, q, a, out)
     if model.contact.enabled:
         cable_contact.add_residual(model.contact, model.el_len, model.hydro.el_d, model.hydro.el_npts, q, v, ship,
-                                   out)
+                                   first, stop, out)
     if model.water.enabled:
-        cable_hydro.add_residual(model.water, model.hydro, model.el_len, q, v, a, t, out)
-        if model.body.enabled:
+        cable_hydro.add_residual(model.water, model.hydro, model.el_len, q, v, a, t, first, stop, out)
+        if model.body.enabled and to_end:
             body_hydro.add_residual(model.water, model.body, q, v, a, t, out)
     return energy
 

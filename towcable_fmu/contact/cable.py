@@ -123,8 +123,8 @@ def _touching_faces(c, half_d, q, base, length, rot, ship, faces) -> int:
 
 @njit(cache=True)
 def add_residual(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_npts: np.ndarray, q: np.ndarray,
-                 v: np.ndarray, ship: np.ndarray, out: np.ndarray) -> None:
-    """Subtract the generalised contact forces of every element that touches a face."""
+                 v: np.ndarray, ship: np.ndarray, first: int, stop: int, out: np.ndarray) -> None:
+    """Subtract the generalised contact forces of the elements ``first`` to ``stop - 1`` that touch a face."""
     rot, rot1, _ = rotation_derivatives(ship)
     m = 2 * el_npts.max()
     xi = np.empty(m)
@@ -135,7 +135,7 @@ def add_residual(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_npts:
     pts = np.empty((m, 6))
     faces = np.empty(c.face_kind.shape[0], dtype=np.int64)
     evaluations = 0
-    for e in range(el_len.shape[0]):
+    for e in range(first, stop):
         base = 6 * e
         length = el_len[e]
         half_d = 0.5 * el_d[e]

@@ -20,6 +20,7 @@ Subclasses set ``fmu_name`` (a key of ``[fmus]`` in the contract) and implement
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 import traceback
@@ -39,6 +40,7 @@ _CAST: dict[str, Callable[[Any], Any]] = {"Real": float, "Integer": int, "Boolea
 MODEL_VERSION = "0.1.0"
 
 
+@functools.cache
 def ship_signal_names() -> tuple[str, ...]:
     """The 18 ``ship.*`` signals of the contract in ship-state order: row k of the
     (3, 6) state (value, rate, acceleration), columns x, y, z, roll, pitch, yaw."""
@@ -50,12 +52,16 @@ def ship_signal_names() -> tuple[str, ...]:
 
 def ship_state(values: dict[str, Any], names: tuple[str, ...] | None = None) -> np.ndarray:
     """Ship state (3, 6) from named values; signals that are not given are 0."""
-    names = ship_signal_names() if names is None else names
     state = np.zeros(18)
-    for k, name in enumerate(ship_signal_names()):
-        if name in names:
-            state[k] = float(values[name])
+    for k, name in _ship_slots(ship_signal_names() if names is None else tuple(names)):
+        state[k] = values[name]
     return state.reshape(3, 6)
+
+
+@functools.cache
+def _ship_slots(names: tuple[str, ...]) -> tuple[tuple[int, str], ...]:
+    """(position in the ship state, name) of the given ship signals."""
+    return tuple((k, name) for k, name in enumerate(ship_signal_names()) if name in names)
 
 
 def parse_overrides(text: str) -> list[tuple[str, Any]]:
@@ -113,6 +119,13 @@ class ContractSlave(Fmi2Slave):
             self.values[var.name] = var.start if var.start is not None else _CAST[var.type](0)
             self.register_variable(self._scalar(var), nested=False)
         self._real_outputs = [v.name for v in spec.outputs if v.type == "Real"]
+        self._output_slots = [(v.name, _CAST[v.type], v.type == "Real") for v in spec.outputs if not v.diagnostic]
+        self._real_input_names = [v.name for v in spec.inputs if v.type == "Real"]
+        # block access without pythonfmu's per-variable dispatch: value reference -> name
+        self._readable = {kind.__name__: {vr: var.name for vr, var in self.vars.items() if isinstance(var, kind)}
+                          for kind in (Real, Boolean)}
+        self._real_inputs = {vr: var.name for vr, var in self.vars.items()
+                             if isinstance(var, Real) and var.causality == Fmi2Causality.input}
 
     # ------------------------------------------------------------ registration
     def _scalar(self, var: contract.Variable):
@@ -162,11 +175,16 @@ class ContractSlave(Fmi2Slave):
         """Run ``fn``; on any exception log it and return ``default`` (never raise to pythonfmu)."""
         try:
             return fn()
-        except TowcableError as exc:
-            self.log_error(f"{what}: {exc}", status)
         except Exception as exc:  # noqa: BLE001 - nothing may reach pythonfmu's C layer
-            self.log_error(f"{what}: unexpected {type(exc).__name__}: {exc}\n{traceback.format_exc()}", status)
+            self._report(what, exc, status)
         return default
+
+    def _report(self, what: str, exc: Exception, status: Fmi2Status) -> None:
+        """Log an exception: our own errors by their message, anything else with its traceback."""
+        if isinstance(exc, TowcableError):
+            self.log_error(f"{what}: {exc}", status)
+        else:
+            self.log_error(f"{what}: unexpected {type(exc).__name__}: {exc}\n{traceback.format_exc()}", status)
 
     def timed(self, fn: Callable[..., Any], *args, **kwargs) -> Any:
         """Call the model's own computation and add its wall time to ``model_wall_time``."""
@@ -202,7 +220,7 @@ class ContractSlave(Fmi2Slave):
             self.failed = "initialisation failed (see the previous message); the FMU cannot step"
 
     def do_step(self, current_time: float, step_size: float) -> bool:
-        def run():
+        try:
             if self.failed is not None:
                 self.log_error(self.failed)
                 return False
@@ -217,20 +235,34 @@ class ContractSlave(Fmi2Slave):
                 self.log_error(f"communication point {current_time!r} is not finite", Fmi2Status.discard)
                 return False
             return bool(self._step(float(current_time), float(step_size)))
-
-        return bool(self._guard(f"step from t = {current_time:.6g} s by {step_size:.6g} s failed", run,
-                                default=False, status=Fmi2Status.discard))
+        except Exception as exc:  # noqa: BLE001 - nothing may reach pythonfmu's C layer
+            self._report(f"step from t = {current_time:.6g} s by {step_size:.6g} s failed", exc, Fmi2Status.discard)
+            return False
 
     def terminate(self) -> None:
         pass
 
+    def _read(self, kind: str, vrs) -> list | None:
+        """Values of ``vrs`` if all are variables of type ``kind``, else None."""
+        names, values = self._readable[kind], self.values
+        try:
+            return [values[names[vr]] for vr in vrs]
+        except KeyError:
+            return None
+
     def get_real(self, vrs):
+        fast = self._read("Real", vrs)
+        if fast is not None:
+            return fast
         return self._guard("getReal", lambda: super(ContractSlave, self).get_real(vrs), default=[0.0] * len(vrs))
 
     def get_integer(self, vrs):
         return self._guard("getInteger", lambda: super(ContractSlave, self).get_integer(vrs), default=[0] * len(vrs))
 
     def get_boolean(self, vrs):
+        fast = self._read("Boolean", vrs)
+        if fast is not None:
+            return fast
         return self._guard("getBoolean", lambda: super(ContractSlave, self).get_boolean(vrs),
                            default=[False] * len(vrs))
 
@@ -238,7 +270,13 @@ class ContractSlave(Fmi2Slave):
         return self._guard("getString", lambda: super(ContractSlave, self).get_string(vrs), default=[""] * len(vrs))
 
     def set_real(self, vrs, values):
-        self._guard("setReal", lambda: super(ContractSlave, self).set_real(vrs, values))
+        names = self._real_inputs
+        try:  # inputs only: no per-variable setter needed
+            pairs = [(names[vr], float(value)) for vr, value in zip(vrs, values)]
+        except KeyError:  # parameters, outputs or unknown references: pythonfmu's checks and messages
+            self._guard("setReal", lambda: super(ContractSlave, self).set_real(vrs, values))
+        else:
+            self.values.update(pairs)
         self._guard("inputs", self._inputs_changed)
 
     def set_integer(self, vrs, values):
@@ -302,8 +340,8 @@ class ContractSlave(Fmi2Slave):
     # ------------------------------------------------------------ helpers
     def non_finite_inputs(self) -> list[str]:
         """Names of Real inputs that are NaN or infinite."""
-        return [v.name for v in self.spec.inputs
-                if v.type == "Real" and not math.isfinite(self.values[v.name])]
+        values = self.values
+        return [name for name in self._real_input_names if not math.isfinite(values[name])]
 
     def set_outputs(self, outputs: dict[str, Any]) -> list[str]:
         """Copy outputs by name (names the model does not provide become 0 / false).
@@ -312,16 +350,15 @@ class ContractSlave(Fmi2Slave):
         not finite.
         """
         missing, new = [], {}
-        for var in self.spec.outputs:
-            if var.diagnostic:
+        for name, cast, real in self._output_slots:
+            value = outputs.get(name)
+            if value is None:
+                new[name] = cast(0)
+                missing.append(name)
                 continue
-            if var.name in outputs:
-                value = _CAST[var.type](outputs[var.name])
-                if var.type == "Real" and not math.isfinite(value):
-                    raise ValueError(f"output '{var.name}' = {value} is not finite")
-                new[var.name] = value
-            else:
-                new[var.name] = _CAST[var.type](0)
-                missing.append(var.name)
+            value = cast(value)
+            if real and not math.isfinite(value):
+                raise ValueError(f"output '{name}' = {value} is not finite")
+            new[name] = value
         self.values.update(new)
         return missing

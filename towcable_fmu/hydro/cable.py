@@ -146,16 +146,16 @@ def _quadrature(w: WaterModel, x: np.ndarray, base: int, length: float, npts: in
 
 @njit(cache=True)
 def add_residual(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarray, v: np.ndarray,
-                 a: np.ndarray, t: float, out: np.ndarray) -> None:
-    """Subtract the generalised hydrodynamic force (and add the added-mass inertia) of every
-    submerged element from the residual ``out``."""
+                 a: np.ndarray, t: float, first: int, stop: int, out: np.ndarray) -> None:
+    """Subtract the generalised hydrodynamic force (and add the added-mass inertia) of the
+    submerged elements ``first`` to ``stop - 1`` from the residual ``out``."""
     m = 2 * hy.el_npts.max()
     xi = np.empty(m)
     wt = np.empty(m)
     g = np.empty(m)
     cross = np.empty(m, dtype=np.int64)
     evaluations = 0
-    for e in range(el_len.shape[0]):
+    for e in range(first, stop):
         if not hy.el_on[e]:
             continue
         base = 6 * e

@@ -1,0 +1,131 @@
+"""All scalar outputs of a cable state in one compiled call.
+
+Passing the :class:`~towcable_fmu.ancf.system.CableModel` from Python into a compiled
+function costs several microseconds (numba unboxes every array of the tuple), so the
+outputs a co-simulation reads at every communication point are computed here in a
+single call; :meth:`towcable_fmu.simulation.Simulation.outputs` names them.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .ancf.measures import element_tension, point_on_cable, summary
+from .ancf.system import CableModel
+from .contact.cable import surface_summary
+from .contact.surfaces import SHEAVE, WINCH
+from .hydro.towbody import body_force
+from .kinematics import rotation_matrix
+
+#: Entries of the array returned by :func:`output_values` (NaN: not modelled in the scene).
+OUTPUT_FIELDS = ("reaction_top", "reaction_bottom", "tension_first", "tension_last", "tension_max", "tension_min",
+                 "energy_kinetic", "energy_strain", "energy_gravity", "tension_towbody", "winch_force",
+                 "sheave_force", "energy_contact", "tension_winch", "tension_sheave", "sheave_angle", "wrap_angle",
+                 "detached")
+_BASE = 9  # the fields of measures.summary come first
+
+
+@njit(cache=True, inline="always")
+def _angle_in_ship(rot: np.ndarray, ux: float, uy: float, uz: float) -> tuple:
+    """A direction in the ship frame and its angle from the ship's downward vertical
+    towards -X [rad] (the departure angle of the compensation algorithms)."""
+    sx = rot[0, 0] * ux + rot[1, 0] * uy + rot[2, 0] * uz
+    sz = rot[0, 2] * ux + rot[1, 2] * uy + rot[2, 2] * uz
+    return sx, sz, math.atan2(-sx, -sz)
+
+
+@njit(cache=True)
+def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: float, ship: np.ndarray,
+                  xi: np.ndarray, body_weight: float, has_winch: bool, sheave_position: np.ndarray,
+                  r: np.ndarray) -> np.ndarray:
+    """The scalar outputs (order: :data:`OUTPUT_FIELDS`).
+
+    Parameters
+    ----------
+    model, q, v, a, t, ship
+        The cable system and its state at time t [s] with the ship state (3, 6).
+    xi
+        Normalised positions per element where the tension extremes are sampled.
+    body_weight
+        Weight of the towed body m g [N]; negative: no towed body.
+    has_winch
+        The cable's top end is on a winch drum.
+    sheave_position
+        Sheave centre in the ship frame [m], shape (3,); NaN: no sheave.
+    r
+        Scratch, shape (nf,).
+
+    Returns
+    -------
+    ndarray
+        ``tension_towbody`` is the force the cable exerts on the body (its mass times
+        acceleration minus its own weight and hydrodynamic force) [N]. The contact fields
+        follow :meth:`~towcable_fmu.simulation.Simulation.outputs`. Fields a scene does not
+        model are NaN.
+    """
+    out = np.full(len(OUTPUT_FIELDS), np.nan)
+    out[:_BASE] = summary(model, q, v, a, t, ship, xi, r)
+    last = q.shape[0] - 6
+    if body_weight >= 0.0:
+        hydro = np.zeros(3)
+        if model.body.enabled:
+            body_force(model.water, model.body, q[last:last + 3], v[last:last + 3], a[last:last + 3], t, hydro)
+        hydro[2] -= body_weight
+        total = 0.0
+        for c in range(3):
+            total += (model.node_mass[-1, c] * a[last + c] - hydro[c]) ** 2
+        out[9] = math.sqrt(total)
+    if not model.contact.enabled:
+        return out
+    force = np.zeros((2, 3))
+    span = np.zeros((2, 2))
+    ends = np.zeros((2, 4))
+    lowest = np.zeros(2)
+    energy = np.zeros(2)
+    surface_summary(model.contact, model.el_len, model.hydro.el_d, model.hydro.el_npts, q, v, ship, force, span,
+                    ends, lowest, energy, np.empty((0, 3)))
+    out[10] = math.sqrt(force[WINCH, 0] ** 2 + force[WINCH, 1] ** 2 + force[WINCH, 2] ** 2)
+    out[11] = math.sqrt(force[SHEAVE, 0] ** 2 + force[SHEAVE, 1] ** 2 + force[SHEAVE, 2] ** 2)
+    out[12] = energy[0] + energy[1]
+    rot = rotation_matrix(ship[0, 3], ship[0, 4], ship[0, 5])
+    last_el = model.el_len.shape[0] - 1
+    has_sheave = not np.isnan(sheave_position[0])
+    top = out[0] if model.free_idx[0] < 0 else max(out[2], 0.0)
+    if has_winch:
+        e = int(ends[WINCH, 2])
+        # the force carried just off the drum: the mean over the next element
+        out[13] = element_tension(model, q, min(e + 1, last_el)) if e >= 0 else top
+        if not has_sheave:  # the cable departs from the drum: its angle plays the sheave's role
+            leave = point_on_cable(model, q, max(e, 0), ends[WINCH, 3] if e >= 0 else 0.0)
+            out[15] = _angle_in_ship(rot, leave[3], leave[4], leave[5])[2]
+    if has_sheave:
+        e0, xi0 = int(ends[SHEAVE, 0]), ends[SHEAVE, 1]
+        e, xe = int(ends[SHEAVE, 2]), ends[SHEAVE, 3]
+        if e < 0:  # not touching: where the cable passes closest to the sheave
+            best = np.inf
+            node = 0
+            for n in range(model.node_mass.shape[0]):
+                dist = 0.0
+                for c in range(3):
+                    centre = ship[0, c] + (rot[c, 0] * sheave_position[0] + rot[c, 1] * sheave_position[1]
+                                           + rot[c, 2] * sheave_position[2])
+                    dist += (q[6 * n + c] - centre) ** 2
+                if dist < best:
+                    best = dist
+                    node = n
+            e, xe = (node, 0.0) if node <= last_el else (node - 1, 1.0)
+        leave = point_on_cable(model, q, e, xe)
+        # the force carried just off the sheave: the mean over the next element
+        out[14] = element_tension(model, q, min(e + 1, last_el))
+        ux, uz, out[15] = _angle_in_ship(rot, leave[3], leave[4], leave[5])
+        out[16] = 0.0
+        if e0 >= 0:  # the wrap: how far the cable turns between meeting and leaving the sheave
+            meet = point_on_cable(model, q, e0, xi0)
+            u0x, u0z, _ = _angle_in_ship(rot, meet[3], meet[4], meet[5])
+            out[16] = abs(math.atan2(u0x * uz - u0z * ux, u0x * ux + u0z * uz))
+        out[17] = 1.0 if lowest[SHEAVE] > 0.0 else 0.0
+    return out
+
