@@ -125,6 +125,35 @@ def test_fast_integrator_agrees_with_scipy_radau(make_sim):
         np.testing.assert_allclose(sim.state.q, ref[k], atol=2e-5)
 
 
+@pytest.mark.parametrize("top", [
+    {"type": "pinned", "frame": "ship", "position": [1.0, 0.0, 0.5]},
+    {"type": "clamped", "frame": "ship", "position": [1.0, 0.0, 0.5], "slope": [0.6, 0.0, -0.8]},
+], ids=["pinned", "clamped"])
+def test_baumgarte_constraint_agrees_with_elimination(make_sim, top):
+    """W(113)-(118): the prescribed end held by a Baumgarte-stabilised constraint (the
+    reference's way) moves the cable exactly as the elimination does; a violated
+    constraint decays as C'' + 2 alpha C' + beta^2 C = 0 prescribes."""
+    table = cable_scene([segment(6.0, 4, mu=0.3, EA=5e4, EI=0.05, damping=0.5)], top=top,
+                        towbody={"mass": 1.0},
+                        motion={"type": "regular", "ramp": 0.5, "heave": {"amplitude": 0.3, "period": 1.5},
+                                "pitch": {"amplitude": 3.0, "period": 2.0}, "roll": {"amplitude": 4.0, "period": 2.5}})
+    sim = make_sim(table)
+    sim.initialize()
+    t_eval = np.linspace(0.1, 1.0, 10)
+    exact = integrate_reference(sim, 1.0, t_eval, rtol=1e-9, atol=1e-11)
+    stabilised = integrate_reference(sim, 1.0, t_eval, rtol=1e-9, atol=1e-11, constraints="baumgarte")
+    np.testing.assert_allclose(stabilised, exact, atol=1e-7)
+
+    held = np.flatnonzero(sim.model.free_idx < 0)
+    beta = 20.0
+    sim.state.q[held] += 1e-3  # start off the constraint, at rest relative to it
+    off = integrate_reference(sim, 1.0, t_eval, rtol=1e-9, atol=1e-11, constraints="baumgarte",
+                              baumgarte=(beta, beta))
+    decay = 1e-3 * (1.0 + beta * t_eval) * np.exp(-beta * t_eval)  # critically damped: alpha = beta
+    np.testing.assert_allclose(off[:, held] - exact[:, held], decay[:, None] * np.ones(held.size),
+                               rtol=1e-3, atol=1e-10)
+
+
 def test_state_round_trip_continues_bit_identically(make_sim):
     table = cable_scene([segment(20.0, 8, mu=0.5, EA=1e5, EI=0.1, damping=1.0)],
                         top={"type": "pinned", "frame": "ship", "position": [0.0, 0.0, 0.0]},

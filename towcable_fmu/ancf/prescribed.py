@@ -5,7 +5,9 @@ unknowns; their position, velocity and acceleration are set from the ship motion
 the time of evaluation, and the residual rows they would have carried are the
 reaction forces. This replaces the Baumgarte-stabilised constraint W(113)-(122) of
 the reference; with the constraint satisfied exactly the two formulations describe
-the same motion (the tests compare the reaction with the closed form).
+the same motion (the constraint form is implemented in the reference path,
+:func:`towcable_fmu.numerics.reference_ivp.integrate_reference`, and the tests compare
+the two).
 
 Attachment kinds (``kind`` column of the attachment table):
 
