@@ -1,4 +1,4 @@
-"""Command line: ``towcable scenes | static | run``.
+"""Command line: ``towcable scenes | static | run | cosim | study-compensation``.
 
 Output names and units follow the variable contract (``contract.toml``); every number
 printed is in SI units.
@@ -150,6 +150,16 @@ def cmd_cosim(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_study_compensation(args: argparse.Namespace) -> int:
+    """Compare heave-compensation algorithms on the full_scale scene in the default sea."""
+    from .analysis.compensation_study import run_study
+
+    result = run_study(args.algorithms, duration=args.duration, step=args.step, output_dir=args.output,
+                       settle=args.settle, fraction=args.fraction, fmu_dir=args.fmus, verbose=not args.quiet)
+    print(result.files["table"].read_text(encoding="utf-8"))
+    return 0
+
+
 def _positive(text: str) -> float:
     value = float(text)
     if not (math.isfinite(value) and value > 0):
@@ -212,6 +222,29 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-plot", action="store_true", help="do not write cosim.png")
     p.add_argument("--quiet", action="store_true", help="no progress or summary on stderr")
     p.set_defaults(func=cmd_cosim)
+
+    from .analysis.compensation_study import DEFAULT_ALGORITHMS, DEFAULT_SETTLE
+
+    p = sub.add_parser("study-compensation", help="compare heave-compensation algorithms (towed-body ellipsoid, "
+                                                  "tensions, payout) on the full_scale scene",
+                       description="Co-simulates the full_scale scene in the default irregular sea once per "
+                                   "algorithm (same waves), leaves out the settling time and writes study.md, "
+                                   "statistics.csv and plots (track, tension, payout) into --output; prints the "
+                                   "table.")
+    p.add_argument("--algorithms", nargs="+", choices=ALGORITHMS, default=list(DEFAULT_ALGORITHMS),
+                   help="set-point algorithms to compare (default: " + " ".join(DEFAULT_ALGORITHMS) + ")")
+    p.add_argument("--duration", type=_positive, default=300.0,
+                   help="simulated time per algorithm, settling included [s] (default 300)")
+    p.add_argument("--step", type=_positive, default=0.01, help="communication step [s] (default 0.01)")
+    p.add_argument("--settle", type=float, default=DEFAULT_SETTLE,
+                   help=f"start-up time left out of the statistics [s] (default {DEFAULT_SETTLE:g}: the sea's "
+                        "20 s ramp-in plus three time constants of the towed body's mean depth)")
+    p.add_argument("--fraction", type=float, default=0.95,
+                   help="share of the towed-body positions inside the ellipsoid, in (0, 1] (default 0.95)")
+    p.add_argument("--output", default="out/compensation", help="output folder (default out/compensation)")
+    p.add_argument("--fmus", default="fmus", help="folder of the FMUs (built there when missing or stale; default fmus/)")
+    p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    p.set_defaults(func=cmd_study_compensation)
     return parser
 
 

@@ -1,9 +1,11 @@
 """All scalar outputs of a cable state in one compiled call.
 
 Passing the :class:`~towcable_fmu.ancf.system.CableModel` from Python into a compiled
-function costs several microseconds (numba unboxes every array of the tuple), so the
-outputs a co-simulation reads at every communication point are computed here in a
-single call; :meth:`towcable_fmu.simulation.Simulation.outputs` names them.
+function costs several microseconds (numba unboxes every array of the tuple), and
+building the outputs in Python costs more; the outputs a co-simulation reads at every
+communication point, and that :meth:`towcable_fmu.simulation.Simulation.run` records
+at every sample, are therefore computed here in a single call, under the names of
+DESIGN.md. :class:`OutputLayout` says which of them a scene has.
 """
 
 from __future__ import annotations
@@ -20,12 +22,46 @@ from .contact.surfaces import SHEAVE, WINCH
 from .hydro.towbody import body_force
 from .kinematics import rotation_matrix
 
-#: Entries of the array returned by :func:`output_values` (NaN: not modelled in the scene).
-OUTPUT_FIELDS = ("reaction_top", "reaction_bottom", "tension_first", "tension_last", "tension_max", "tension_min",
-                 "energy_kinetic", "energy_strain", "energy_gravity", "tension_towbody", "winch_force",
-                 "sheave_force", "energy_contact", "tension_winch", "tension_sheave", "sheave_angle", "wrap_angle",
-                 "detached")
-_BASE = 9  # the fields of measures.summary come first
+#: Entries of the array returned by :func:`output_values`, SI units.
+OUTPUT_FIELDS = ("tension.top", "tension.bottom", "tension.max", "tension.min", "angle.top",
+                 "tension.towbody", "towbody.x", "towbody.y", "towbody.z", "towbody.vx", "towbody.vy", "towbody.vz",
+                 "contact.winch_force", "contact.sheave_force", "energy.contact", "tension.winch", "sheave_angle",
+                 "tension.sheave", "contact.wrap_angle", "contact.detached",
+                 "energy.kinetic", "energy.strain", "energy.gravity", "winch.phi", "winch.payout")
+_FIELD = {name: k for k, name in enumerate(OUTPUT_FIELDS)}
+_TOWBODY = ("tension.towbody", "towbody.x", "towbody.y", "towbody.z", "towbody.vx", "towbody.vy", "towbody.vz")
+_CONTACT = ("contact.winch_force", "contact.sheave_force", "energy.contact")
+_SHEAVE = ("tension.sheave", "contact.wrap_angle", "contact.detached")
+
+
+class OutputLayout:
+    """Which outputs a scene has, in the order :meth:`Simulation.outputs` reports them.
+
+    Parameters
+    ----------
+    towbody, winch, sheave, contact
+        The scene has a towed body, a winch, a sheave, any contact surface.
+    """
+
+    def __init__(self, *, towbody: bool, winch: bool, sheave: bool, contact: bool) -> None:
+        names = ["tension.top", "tension.bottom", "tension.max", "tension.min", "angle.top"]
+        if towbody:
+            names += _TOWBODY
+        if contact:
+            names += _CONTACT
+            if winch:
+                names.append("tension.winch")
+            if winch or sheave:
+                names.append("sheave_angle")
+            if sheave:
+                names += _SHEAVE
+        names += ["energy.kinetic", "energy.strain", "energy.gravity", "winch.phi"]
+        if winch:
+            names.append("winch.payout")
+        #: Output names of the scene.
+        self.names: tuple[str, ...] = tuple(names)
+        #: Their positions in the array of :func:`output_values`.
+        self.index = np.array([_FIELD[n] for n in names], dtype=np.intp)
 
 
 @njit(cache=True, inline="always")
@@ -38,15 +74,17 @@ def _angle_in_ship(rot: np.ndarray, ux: float, uy: float, uz: float) -> tuple:
 
 
 @njit(cache=True)
-def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: float, ship: np.ndarray,
-                  xi: np.ndarray, body_weight: float, has_winch: bool, sheave_position: np.ndarray,
-                  r: np.ndarray) -> np.ndarray:
-    """The scalar outputs (order: :data:`OUTPUT_FIELDS`).
+def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, phi: np.ndarray, t: float,
+                  ship: np.ndarray, xi: np.ndarray, body_weight: float, has_winch: bool,
+                  sheave_position: np.ndarray, payout_radius: float, phi_nom: float, r: np.ndarray) -> np.ndarray:
+    """The outputs of a state (order: :data:`OUTPUT_FIELDS`).
 
     Parameters
     ----------
     model, q, v, a, t, ship
         The cable system and its state at time t [s] with the ship state (3, 6).
+    phi
+        Winch state (rotation [rad], rate, acceleration, ...).
     xi
         Normalised positions per element where the tension extremes are sampled.
     body_weight
@@ -55,20 +93,32 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
         The cable's top end is on a winch drum.
     sheave_position
         Sheave centre in the ship frame [m], shape (3,); NaN: no sheave.
+    payout_radius, phi_nom
+        Radius r_w + d/2 [m] and nominal rotation [rad] for the payout r (phi_nom - phi).
     r
         Scratch, shape (nf,).
 
     Returns
     -------
     ndarray
-        ``tension_towbody`` is the force the cable exerts on the body (its mass times
-        acceleration minus its own weight and hydrodynamic force) [N]. The contact fields
-        follow :meth:`~towcable_fmu.simulation.Simulation.outputs`. Fields a scene does not
-        model are NaN.
+        ``tension.top``/``tension.bottom`` are the support reactions at a prescribed end
+        (the consistent nodal force), else the axial force from the strain;
+        ``tension.towbody`` is the force the cable exerts on the body (its mass times
+        acceleration minus its own weight and hydrodynamic force). The contact fields
+        follow :meth:`~towcable_fmu.simulation.Simulation.outputs`. Fields a scene does
+        not model are NaN.
     """
     out = np.full(len(OUTPUT_FIELDS), np.nan)
-    out[:_BASE] = summary(model, q, v, a, t, ship, xi, r)
+    (reaction_top, reaction_bottom, t_first, t_last, t_max, t_min, kinetic, strain,
+     gravity) = summary(model, q, v, a, t, ship, xi, r)
     last = q.shape[0] - 6
+    top = reaction_top if model.free_idx[0] < 0 else max(t_first, 0.0)
+    bottom = reaction_bottom if model.free_idx[last] < 0 else max(t_last, 0.0)
+    out[0] = top
+    out[1] = bottom
+    out[2] = max(t_max, top, bottom)
+    out[3] = t_min
+    out[4] = math.atan2(math.sqrt(q[3] ** 2 + q[4] ** 2), -q[5])
     if body_weight >= 0.0:
         hydro = np.zeros(3)
         if model.body.enabled:
@@ -77,9 +127,23 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
         total = 0.0
         for c in range(3):
             total += (model.node_mass[-1, c] * a[last + c] - hydro[c]) ** 2
-        out[9] = math.sqrt(total)
-    if not model.contact.enabled:
-        return out
+            out[6 + c] = q[last + c]
+            out[9 + c] = v[last + c]
+        out[5] = math.sqrt(total)
+    out[20] = kinetic
+    out[21] = strain
+    out[22] = gravity
+    out[23] = phi[0]
+    out[24] = payout_radius * (phi_nom - phi[0])
+    if model.contact.enabled:
+        _contact_values(model, q, v, ship, has_winch, sheave_position, top, out)
+    return out
+
+
+@njit(cache=True)
+def _contact_values(model: CableModel, q: np.ndarray, v: np.ndarray, ship: np.ndarray, has_winch: bool,
+                    sheave_position: np.ndarray, top: float, out: np.ndarray) -> None:
+    """Contact forces, departure tensions and angle, wrap and detachment into ``out``."""
     force = np.zeros((2, 3))
     span = np.zeros((2, 2))
     ends = np.zeros((2, 4))
@@ -87,20 +151,19 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     energy = np.zeros(2)
     surface_summary(model.contact, model.el_len, model.hydro.el_d, model.hydro.el_npts, q, v, ship, force, span,
                     ends, lowest, energy, np.empty((0, 3)))
-    out[10] = math.sqrt(force[WINCH, 0] ** 2 + force[WINCH, 1] ** 2 + force[WINCH, 2] ** 2)
-    out[11] = math.sqrt(force[SHEAVE, 0] ** 2 + force[SHEAVE, 1] ** 2 + force[SHEAVE, 2] ** 2)
-    out[12] = energy[0] + energy[1]
+    out[12] = math.sqrt(force[WINCH, 0] ** 2 + force[WINCH, 1] ** 2 + force[WINCH, 2] ** 2)
+    out[13] = math.sqrt(force[SHEAVE, 0] ** 2 + force[SHEAVE, 1] ** 2 + force[SHEAVE, 2] ** 2)
+    out[14] = energy[0] + energy[1]
     rot = rotation_matrix(ship[0, 3], ship[0, 4], ship[0, 5])
     last_el = model.el_len.shape[0] - 1
     has_sheave = not np.isnan(sheave_position[0])
-    top = out[0] if model.free_idx[0] < 0 else max(out[2], 0.0)
     if has_winch:
         e = int(ends[WINCH, 2])
         # the force carried just off the drum: the mean over the next element
-        out[13] = element_tension(model, q, min(e + 1, last_el)) if e >= 0 else top
+        out[15] = element_tension(model, q, min(e + 1, last_el)) if e >= 0 else top
         if not has_sheave:  # the cable departs from the drum: its angle plays the sheave's role
             leave = point_on_cable(model, q, max(e, 0), ends[WINCH, 3] if e >= 0 else 0.0)
-            out[15] = _angle_in_ship(rot, leave[3], leave[4], leave[5])[2]
+            out[16] = _angle_in_ship(rot, leave[3], leave[4], leave[5])[2]
     if has_sheave:
         e0, xi0 = int(ends[SHEAVE, 0]), ends[SHEAVE, 1]
         e, xe = int(ends[SHEAVE, 2]), ends[SHEAVE, 3]
@@ -119,13 +182,11 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
             e, xe = (node, 0.0) if node <= last_el else (node - 1, 1.0)
         leave = point_on_cable(model, q, e, xe)
         # the force carried just off the sheave: the mean over the next element
-        out[14] = element_tension(model, q, min(e + 1, last_el))
-        ux, uz, out[15] = _angle_in_ship(rot, leave[3], leave[4], leave[5])
-        out[16] = 0.0
+        out[17] = element_tension(model, q, min(e + 1, last_el))
+        ux, uz, out[16] = _angle_in_ship(rot, leave[3], leave[4], leave[5])
+        out[18] = 0.0
         if e0 >= 0:  # the wrap: how far the cable turns between meeting and leaving the sheave
             meet = point_on_cable(model, q, e0, xi0)
             u0x, u0z, _ = _angle_in_ship(rot, meet[3], meet[4], meet[5])
-            out[16] = abs(math.atan2(u0x * uz - u0z * ux, u0x * ux + u0z * uz))
-        out[17] = 1.0 if lowest[SHEAVE] > 0.0 else 0.0
-    return out
-
+            out[18] = abs(math.atan2(u0x * uz - u0z * ux, u0x * ux + u0z * uz))
+        out[19] = 1.0 if lowest[SHEAVE] > 0.0 else 0.0

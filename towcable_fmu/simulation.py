@@ -19,7 +19,7 @@ from .ancf.mesh import Mesh, build_mesh, build_model, winch_radius
 from .ancf.prescribed import apply_prescribed
 from .ancf.system import CableModel, residual
 from .contact.cable import surface_summary
-from .output_kernel import OUTPUT_FIELDS, output_values
+from .output_kernel import OutputLayout, output_values
 from .errors import SceneError, SolverError
 from .kinematics import rotation_matrix
 from .hydro.turbulence import TurbulenceSeries
@@ -104,6 +104,11 @@ class Simulation:
         self._initialized = False
         self._last_outputs: dict[str, float] = {}
         self._payout_radius = winch_radius(scene) if scene.winch is not None else 0.0  # r_w + d/2 [m]
+        self._phi_nom = scene.winch.phi_nom if scene.winch is not None else 0.0
+        self._body_weight = -1.0 if scene.towbody is None else scene.towbody.mass * scene.environment.gravity
+        #: The outputs this scene has (names in DESIGN.md), see :meth:`outputs`.
+        self.layout = OutputLayout(towbody=scene.towbody is not None, winch=scene.winch is not None,
+                                   sheave=scene.sheave is not None, contact=bool(self.model.contact.enabled))
         # sheave centre in the ship frame [m] (NaN: none), for the compiled outputs
         self._sheave_position = np.array(scene.sheave.position if scene.sheave is not None else [np.nan] * 3,
                                          dtype=float)
@@ -162,7 +167,7 @@ class Simulation:
         st.stats[:] = 0
         st.jac[:] = 0.0
         st.jac[genalpha.JAC_ETA] = 1.0
-        st.clock[:] = (t0, self.options.h_max, 0.0)
+        st.clock[:] = (t0, self.options.h_max, 0.0, 0.0)
         run_statics = self.scene.statics.enabled if statics is None else statics
         if run_statics:
             cfg = self.scene.statics
@@ -339,20 +344,31 @@ class Simulation:
         t0 = self.time
         if not (math.isfinite(t_end) and t_end > t0):
             raise SceneError("t_end", t_end, f"a finite time > {t0:g} s")
-        # knots no farther apart than the solver step: the quintic Hermite pieces then
-        # follow any motion the solver itself can resolve
-        n = max(1, math.ceil((t_end - t0) / self.options.h_max - 1e-9))
-        times = np.linspace(t0, t_end, n + 1)
+        return self._advance_with(t_end, self._drive(np.array([t0, t_end])))
+
+    def _drive(self, marks: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Drive table from the scene's own ship motion through the times ``marks`` [s].
+
+        Knots lie at the marks and between them no farther apart than the solver step:
+        the quintic Hermite pieces then follow any motion the solver itself can resolve.
+        The winch set-point of a compensating scene is computed at the knots, with the
+        measured sheave angle (rigorous algorithms) of the current state.
+        """
+        pieces = [marks[:1]]
+        for a, b in zip(marks[:-1], marks[1:]):
+            n = max(1, math.ceil((b - a) / self.options.h_max - 1e-9))
+            pieces.append(np.linspace(a, b, n + 1)[1:])
+        times = np.concatenate(pieces)
         ships = self.motion.evaluate_many(times)
         if self.compensation is not None:
             # the measured sheave angle (rigorous algorithms) is that at the start of the interval
             angle = self._last_outputs.get("sheave_angle", np.nan) if self.compensation.config.rigorous else np.nan
-            sp = self.compensation.compute_series(ships, np.full(n + 1, angle))
+            sp = self.compensation.compute_series(ships, np.full(times.size, angle))
             setpoints = np.column_stack([sp.phi_sp, sp.phi_sp_rate])
             self._setpoint = (float(setpoints[-1, 0]), float(setpoints[-1, 1]))
         else:
-            setpoints = np.tile(self._setpoint, (n + 1, 1))
-        return self._advance_with(t_end, drive_poly.knot_drive(times, ships, setpoints))
+            setpoints = np.tile(self._setpoint, (times.size, 1))
+        return drive_poly.knot_drive(times, ships, setpoints)
 
     def step(self, dt: float, ship: np.ndarray, setpoint: tuple[float, float] | None = None) -> dict[str, float]:
         """Advance by ``dt`` with the ship state given at the start of the step (FMU style).
@@ -442,46 +458,18 @@ class Simulation:
         strain), else the axial force from the strain; ``tension.towbody`` is the force
         the cable exerts on the body (its mass times acceleration minus its other forces).
         """
-        st = self.state
-        m = self.model
-        sheave = self._sheave_position
-        body_weight = -1.0 if self.scene.towbody is None else self.scene.towbody.mass * self.scene.environment.gravity
-        vals = dict(zip(OUTPUT_FIELDS, output_values(m, st.q, st.v, st.a, self.time, self.workspace.ship, _PROFILE_XI,
-                                                     body_weight, self.scene.winch is not None, sheave,
-                                                     self.workspace.r).tolist()))
-        top = vals["reaction_top"] if m.free_idx[0] < 0 else max(vals["tension_first"], 0.0)
-        bottom = vals["reaction_bottom"] if m.free_idx[-6] < 0 else max(vals["tension_last"], 0.0)
-        out: dict[str, float] = {"time": self.time, "tension.top": top, "tension.bottom": bottom,
-                                 "tension.max": max(vals["tension_max"], top, bottom),
-                                 "tension.min": vals["tension_min"],
-                                 "angle.top": measures.angle_from_vertical(st.q[3:6])}
-        if self.scene.towbody is not None:
-            last = st.q.size - 6
-            out["tension.towbody"] = vals["tension_towbody"]
-            for k, c in enumerate("xyz"):
-                out[f"towbody.{c}"] = float(st.q[last + k])
-                out[f"towbody.v{c}"] = float(st.v[last + k])
-        if m.load_on:
+        out = {"time": self.time}
+        out.update(zip(self.layout.names, self._output_array()[self.layout.index].tolist()))
+        if self.model.load_on:
             out.update(self._load_outputs())
-        if m.contact.enabled:
-            out["contact.winch_force"] = vals["winch_force"]
-            out["contact.sheave_force"] = vals["sheave_force"]
-            out["energy.contact"] = vals["energy_contact"]
-            if self.scene.winch is not None:
-                out["tension.winch"] = vals["tension_winch"]
-            if self.scene.winch is not None or self.scene.sheave is not None:
-                out["sheave_angle"] = vals["sheave_angle"]
-            if self.scene.sheave is not None:
-                out["tension.sheave"] = vals["tension_sheave"]
-                out["contact.wrap_angle"] = vals["wrap_angle"]
-                out["contact.detached"] = vals["detached"]
-        out["energy.kinetic"] = vals["energy_kinetic"]
-        out["energy.strain"] = vals["energy_strain"]
-        out["energy.gravity"] = vals["energy_gravity"]
-        out["winch.phi"] = float(st.phi[0])
-        if self.scene.winch is not None:
-            out["winch.payout"] = self._payout_radius * (self.scene.winch.phi_nom - float(st.phi[0]))
         return out
+
+    def _output_array(self) -> np.ndarray:
+        """All fields of :data:`~towcable_fmu.output_kernel.OUTPUT_FIELDS` (NaN: not in the scene)."""
+        st, ws = self.state, self.workspace
+        return output_values(self.model, st.q, st.v, st.a, st.phi, self.time, ws.ship, _PROFILE_XI,
+                             self._body_weight, self.scene.winch is not None, self._sheave_position,
+                             self._payout_radius, self._phi_nom, ws.r)
 
     def _load_outputs(self) -> dict[str, float]:
         """Swing angle of the rigid load and the force the cable exerts on it."""
@@ -597,6 +585,12 @@ class Simulation:
         -------
         dict
             Output name -> array over the recorded samples (including the start).
+
+        Raises
+        ------
+        SolverError
+            If a step fails or an output is not finite; the state is then that of the
+            last accepted step.
         """
         if not (math.isfinite(duration) and duration > 0.0):
             raise SceneError("duration", duration, "a finite time > 0 s")
@@ -607,9 +601,37 @@ class Simulation:
             self.initialize()
         t0 = self.time
         n = max(1, int(math.ceil(duration / dt - 1e-9)))
-        rows = [self.outputs()]
-        for k in range(1, n + 1):
-            rows.append(self.advance(t0 + min(k * dt, duration)))
-            if progress is not None:
-                progress(self.time, t0 + duration)
-        return {name: np.array([r[name] for r in rows]) for name in rows[0]}
+        samples = t0 + np.minimum(np.arange(1, n + 1) * dt, duration)
+        index = self.layout.index
+        values = np.empty((n + 1, index.size))
+        values[0] = self._output_array()[index]
+        loads = [self._load_outputs()] if self.model.load_on else None
+        # one drive table per about a second of samples (per sample when the set-point
+        # needs the measured angle of the latest state); the same knots as advance()
+        rigorous = self.compensation is not None and self.compensation.config.rigorous
+        chunk = 1 if rigorous else max(1, int(1.0 / dt))
+        for first in range(0, n, chunk):
+            stop = min(n, first + chunk)
+            drive = self._drive(np.concatenate([[self.time], samples[first:stop]]))
+            self._cover(samples[stop - 1])
+            for k in range(first, stop):
+                status = genalpha.advance(self.model, self.options, self.state, self.workspace, samples[k], *drive)
+                if status != genalpha.OK:
+                    raise SolverError(f"the solver could not advance to t = {samples[k]:.6g} s: Newton failed at "
+                                      f"the minimum step size {self.options.h_min:g} s near t = {self.time:.6g} s")
+                row = self._output_array()[index]
+                if not np.all(np.isfinite(row)):
+                    raise SolverError(f"non-finite outputs at t = {samples[k]:.6g} s")
+                values[k + 1] = row
+                if loads is not None:
+                    loads.append(self._load_outputs())
+                if progress is not None:
+                    progress(self.time, t0 + duration)
+            if rigorous:
+                self._last_outputs = self.outputs()
+        self._last_outputs = self.outputs()
+        out = {"time": np.concatenate([[t0], samples])}
+        out.update(zip(self.layout.names, values.T))
+        if loads is not None:
+            out.update({name: np.array([r[name] for r in loads]) for name in loads[0]})
+        return out

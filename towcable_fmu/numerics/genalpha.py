@@ -94,7 +94,7 @@ class IntegratorState(NamedTuple):
     a: np.ndarray        #: (nf,) accelerations
     abar: np.ndarray     #: (nf,) auxiliary accelerations of the scheme
     phi: np.ndarray      #: (4,) winch rotation, rate, acceleration, auxiliary acceleration
-    clock: np.ndarray    #: (3,) time [s], current step size [s], last error estimate [-]
+    clock: np.ndarray    #: (4,) time [s], current step size [s], last error estimate [-], accepted steps since the last step-size cut
     jac: np.ndarray      #: (5,) valid, step size, age, time, Newton contraction estimate
     jac_q: np.ndarray    #: (nf,) coordinates at which the Jacobian was evaluated
     jac_v: np.ndarray    #: (nf,) velocities at which the Jacobian was evaluated
@@ -118,7 +118,7 @@ class Workspace(NamedTuple):
 
 def new_state(nf: int) -> IntegratorState:
     """A zero integrator state for ``nf`` coordinates."""
-    return IntegratorState(np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(4), np.zeros(3),
+    return IntegratorState(np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(4), np.zeros(4),
                            np.zeros(5), np.zeros(nf), np.zeros(nf), np.zeros((3, 6)),
                            np.zeros(len(STAT_NAMES), dtype=np.int64))
 
@@ -170,9 +170,8 @@ def evaluate_drive(drive_t: np.ndarray, drive_x: np.ndarray, t: float, ship: np.
             ship[1, c] = v + tau * a
             ship[2, c] = a
         return drive_x[0, 0, 6] + tau * drive_x[0, 1, 6], drive_x[0, 1, 6]
-    k = 0
-    while k < nk - 2 and t > drive_t[k + 1]:
-        k += 1
+    # the piece [t_k, t_k+1] with t_k < t <= t_k+1 (the first or last piece outside the table)
+    k = min(max(np.searchsorted(drive_t, t) - 1, 0), nk - 2)
     dt = drive_t[k + 1] - drive_t[k]
     s = (t - drive_t[k]) / dt
     s2 = s * s
@@ -423,7 +422,6 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
     """
     am, af, gamma, beta = scheme_coefficients(opt.rho_inf)
     phi0 = np.empty(4)
-    streak = 0
     while True:
         t = st.clock[0]
         remaining = t_end - t
@@ -447,20 +445,21 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
             status = _try_step(model, opt, st, ws, h_try, drive_t, drive_x, am, af, gamma, beta)
         if status == 0:
             st.stats[STAT_STEPS] += 1
-            streak += 1
+            st.clock[3] += 1.0
             if opt.adaptive:
                 err = st.clock[2]
                 factor = 0.9 * max(err, 1e-10) ** (-1.0 / 3.0)
                 st.clock[1] = min(opt.h_max, h_try * min(2.0, max(0.5, factor)))
                 if nrem > 1 and st.clock[1] > h_try and st.clock[1] < 1.2 * h_try:
                     st.clock[1] = h_try  # avoid re-factorising for a marginal gain
-            elif streak >= 8 and st.clock[1] < opt.h_max:
+            elif st.clock[3] >= 8.0 and st.clock[1] < opt.h_max:
+                # fixed-step mode after a cut: return to the nominal step by doublings
                 st.clock[1] = min(opt.h_max, 2.0 * st.clock[1])
-                streak = 0
+                st.clock[3] = 0.0
             continue
         _restore(st, ws, phi0)
         st.stats[STAT_REJECTED] += 1
-        streak = 0
+        st.clock[3] = 0.0
         if status == 2:
             factor = 0.9 * st.clock[2] ** (-1.0 / 3.0)
             h_new = h_try * min(0.9, max(0.2, factor))
