@@ -263,6 +263,19 @@ def test_elements_above_the_water_cost_no_hydrodynamics():
     assert wet.model.hydro.calls[0] > 0 and wet.model.body.calls[0] > 0
 
 
+def test_wet_scene_without_a_towed_body_never_calls_the_body_kernel():
+    from towcable_fmu.scene import scene_from_table
+
+    table = cable_scene([segment(20.0, 8, mu=0.5, EA=1e6, EI=0.1, diameter=0.02)],
+                        top={"type": "pinned", "position": [0.0, 0.0, 0.0]},
+                        water={"density": 1025.0, "current": {"type": "uniform", "velocity": [-1.0, 0.0, 0.0]}})
+    sim = Simulation(scene_from_table(table))
+    sim.initialize()
+    sim.run(0.5)
+    assert sim.model.hydro.calls[0] > 0
+    assert not sim.model.body.enabled and sim.model.body.calls[0] == 0
+
+
 def test_no_impulse_when_an_element_enters_the_water():
     """The hydrodynamic generalised force changes continuously as an element is lowered
     through the surface (partial-element quadrature W(78)-(80))."""

@@ -9,6 +9,7 @@ import pytest
 from conftest import cable_scene, segment
 
 from towcable_fmu.ancf.mesh import winch_radius
+from towcable_fmu.contact.surfaces import WINCH
 from towcable_fmu.scene import scene_from_table
 from towcable_fmu.simulation import Simulation
 
@@ -190,3 +191,6 @@ def test_scenes_without_a_sheave_or_winch_never_call_the_contact_kernels():
     sim.initialize()
     sim.run(0.5)
     assert not sim.model.contact.enabled and sim.model.contact.calls[0] == 0
+    # a winch without a sheave: the drum is the only surface there is to test
+    flume = Simulation.from_scene("flume")
+    assert set(flume.model.contact.face_surface.tolist()) == {WINCH}

@@ -21,6 +21,7 @@ from .contact.cable import surface_summary
 from .contact.surfaces import SHEAVE, WINCH
 from .hydro.towbody import body_force
 from .kinematics import rotation_matrix
+from .numerics.genalpha import advance as genalpha_advance
 
 #: Entries of the array returned by :func:`output_values`, SI units.
 OUTPUT_FIELDS = ("tension.top", "tension.bottom", "tension.max", "tension.min", "angle.top",
@@ -190,3 +191,34 @@ def _contact_values(model: CableModel, q: np.ndarray, v: np.ndarray, ship: np.nd
             u0x, u0z, _ = _angle_in_ship(rot, meet[3], meet[4], meet[5])
             out[18] = abs(math.atan2(u0x * uz - u0z * ux, u0x * ux + u0z * uz))
         out[19] = 1.0 if lowest[SHEAVE] > 0.0 else 0.0
+
+
+@njit(cache=True)
+def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive_t: np.ndarray,
+                      drive_x: np.ndarray, xi: np.ndarray, body_weight: float, has_winch: bool,
+                      sheave_position: np.ndarray, payout_radius: float, phi_nom: float, index: np.ndarray,
+                      rows: np.ndarray) -> int:
+    """Advance through the sample times and record the outputs ``index`` of
+    :func:`output_values` (the scene's, :class:`OutputLayout`) at each.
+
+    One compiled call for a whole block of samples (no Python between them). ``rows``
+    (len(samples), len(index)) receives the outputs; ``opt``, ``st``, ``ws`` are the
+    solver options, state and workspace of :mod:`towcable_fmu.numerics.genalpha`.
+
+    Returns
+    -------
+    int
+        The number of samples reached: ``len(samples)``, or the index of the sample whose
+        step failed (the state is then the last accepted step) or whose outputs are not
+        finite.
+    """
+    for k in range(samples.shape[0]):
+        if genalpha_advance(model, opt, st, ws, samples[k], drive_t, drive_x) != 0:
+            return k
+        values = output_values(model, st.q, st.v, st.a, st.phi, st.clock[0], ws.ship, xi, body_weight, has_winch,
+                               sheave_position, payout_radius, phi_nom, ws.r)
+        for j in range(index.shape[0]):
+            rows[k, j] = values[index[j]]
+            if not np.isfinite(rows[k, j]):
+                return k
+    return samples.shape[0]

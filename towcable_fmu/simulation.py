@@ -19,7 +19,7 @@ from .ancf.mesh import Mesh, build_mesh, build_model, winch_radius
 from .ancf.prescribed import apply_prescribed
 from .ancf.system import CableModel, residual
 from .contact.cable import surface_summary
-from .output_kernel import OutputLayout, output_values
+from .output_kernel import OutputLayout, advance_recording, output_values
 from .errors import SceneError, SolverError
 from .kinematics import rotation_matrix
 from .hydro.turbulence import TurbulenceSeries
@@ -579,7 +579,7 @@ class Simulation:
         interval
             Output interval [s]; default: the scene's ``output.interval``.
         progress
-            Called as ``progress(t, t_end)`` after every recorded sample.
+            Called as ``progress(t, t_end)`` after every block of samples (about 1 s).
 
         Returns
         -------
@@ -606,27 +606,37 @@ class Simulation:
         values = np.empty((n + 1, index.size))
         values[0] = self._output_array()[index]
         loads = [self._load_outputs()] if self.model.load_on else None
-        # one drive table per about a second of samples (per sample when the set-point
-        # needs the measured angle of the latest state); the same knots as advance()
+        # one drive table and one compiled call per about a second of samples (per sample
+        # when the set-point needs the measured angle of the latest state); the same knots
+        # as advance()
         rigorous = self.compensation is not None and self.compensation.config.rigorous
         chunk = 1 if rigorous else max(1, int(1.0 / dt))
         for first in range(0, n, chunk):
             stop = min(n, first + chunk)
             drive = self._drive(np.concatenate([[self.time], samples[first:stop]]))
             self._cover(samples[stop - 1])
-            for k in range(first, stop):
-                status = genalpha.advance(self.model, self.options, self.state, self.workspace, samples[k], *drive)
-                if status != genalpha.OK:
-                    raise SolverError(f"the solver could not advance to t = {samples[k]:.6g} s: Newton failed at "
-                                      f"the minimum step size {self.options.h_min:g} s near t = {self.time:.6g} s")
-                row = self._output_array()[index]
-                if not np.all(np.isfinite(row)):
-                    raise SolverError(f"non-finite outputs at t = {samples[k]:.6g} s")
-                values[k + 1] = row
-                if loads is not None:
+            if loads is None:
+                reached = first + advance_recording(
+                    self.model, self.options, self.state, self.workspace, samples[first:stop], *drive, _PROFILE_XI,
+                    self._body_weight, self.scene.winch is not None, self._sheave_position, self._payout_radius,
+                    self._phi_nom, index, values[first + 1:stop + 1])
+            else:  # the rigid load's outputs are computed in Python: one sample at a time
+                reached = first
+                while reached < stop and genalpha.advance(self.model, self.options, self.state, self.workspace,
+                                                          samples[reached], *drive) == genalpha.OK:
+                    values[reached + 1] = self._output_array()[index]
                     loads.append(self._load_outputs())
-                if progress is not None:
-                    progress(self.time, t0 + duration)
+                    if not np.all(np.isfinite(values[reached + 1])):
+                        break
+                    reached += 1
+            if reached < stop:
+                if self.time < samples[reached] - 1e-12 * max(1.0, abs(samples[reached])):
+                    raise SolverError(f"the solver could not advance to t = {samples[reached]:.6g} s: Newton "
+                                      f"failed at the minimum step size {self.options.h_min:g} s near "
+                                      f"t = {self.time:.6g} s")
+                raise SolverError(f"non-finite outputs at t = {samples[reached]:.6g} s")
+            if progress is not None:
+                progress(self.time, t0 + duration)
             if rigorous:
                 self._last_outputs = self.outputs()
         self._last_outputs = self.outputs()
