@@ -1,0 +1,45 @@
+"""Regenerate every benchmark result under ``benchmarks/results/`` (tables and plots).
+
+Runs the benchmark scripts one after another, each in its own process (the machine has
+two cores and wall time is what is measured: nothing else should run meanwhile):
+core (hanging cable), hydro (kernel costs, statics), full_scale (work-precision with
+ship motion), snapping (ours and the peers MoorDyn and Exudyn, if installed), profile
+(where the time goes, scene by scene) and cosim (the three FMUs, FMU overhead).
+
+Run from the repository root: ``pip install ".[bench]" && python benchmarks/run_all.py``
+(about 20 minutes). ``--only NAME ...`` runs a subset.
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).parent
+SCRIPTS = {"core": "core.py", "hydro": "hydro.py", "full_scale": "full_scale.py", "snapping": "snapping.py",
+           "profile": "profile_scenes.py", "cosim": "cosim.py"}
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--only", nargs="+", choices=sorted(SCRIPTS), help="run only these benchmarks")
+    args = parser.parse_args(argv)
+    failed = []
+    for name in args.only or SCRIPTS:
+        start = time.perf_counter()
+        print(f"== {name} ({SCRIPTS[name]})", file=sys.stderr, flush=True)
+        rc = subprocess.run([sys.executable, SCRIPTS[name]], cwd=HERE).returncode
+        print(f"== {name}: {'ok' if rc == 0 else f'FAILED (exit {rc})'} in {time.perf_counter() - start:.0f} s",
+              file=sys.stderr, flush=True)
+        if rc != 0:
+            failed.append(name)
+    if failed:
+        print("failed: " + ", ".join(failed), file=sys.stderr)
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
