@@ -12,7 +12,7 @@ from scipy.optimize import brentq
 
 from reference import steady_tow as ref_tow
 from towcable_fmu.ancf.system import iteration_matrix, residual
-from towcable_fmu.hydro.loading import BARE, FAIRED, drag_coefficient, loading_functions
+from towcable_fmu.hydro.loading import BARE, FAIRED, SUN_BARE, SUN_FAIRED, drag_coefficient, loading_functions
 from towcable_fmu.hydro.turbulence import TurbulenceSeries
 from towcable_fmu.scene import scene_from_table
 from towcable_fmu.scene.model import Turbulence
@@ -50,6 +50,33 @@ def test_faired_loading_functions_hand_values():
     fn, ft = _fn_ft(FAIRED, math.pi / 2)
     assert fn == pytest.approx(0.498609 + 0.2527 + 0.2487, abs=1e-12)
     assert ft == pytest.approx(-0.2255 + 0.255, abs=1e-12)
+
+
+def test_sun2011_bare_loading_functions_hand_values():
+    # eq. 28: f_n = sin^2 a; f_t = -0.019 + 0.0239 cos a + 0.02 sin a + 0.001 cos 2a
+    fn, ft = _fn_ft(SUN_BARE, 0.0)
+    assert fn == pytest.approx(0.0, abs=1e-15)
+    assert ft == pytest.approx(-0.019 + 0.0239 + 0.001, abs=1e-12)  # 0.0059 along the flow
+    fn, ft = _fn_ft(SUN_BARE, math.pi / 2)
+    assert fn == pytest.approx(1.0, abs=1e-12)
+    assert ft == pytest.approx(0.0, abs=1e-12)  # -0.019 + 0.02 - 0.001 = 0: no drag along a normal flow
+    fn, ft = _fn_ft(SUN_BARE, math.radians(45))
+    assert fn == pytest.approx(0.5, abs=1e-12)
+    assert ft == pytest.approx(-0.019 + 0.0439 / math.sqrt(2.0), abs=1e-12)
+
+
+def test_sun2011_faired_loading_functions_hand_values_and_continuity():
+    # eq. 29: g = 0.273 + 0.827 a^2 below 30 deg, sin a above; f_n = g sin a, f_t = g cos a
+    fn, ft = _fn_ft(SUN_FAIRED, 0.0)
+    assert (fn, ft) == pytest.approx((0.0, 0.273), abs=1e-12)
+    a = math.radians(20)
+    g = 0.273 + 0.827 * a * a
+    assert _fn_ft(SUN_FAIRED, a) == pytest.approx((g * math.sin(a), g * math.cos(a)), abs=1e-12)
+    assert _fn_ft(SUN_FAIRED, math.pi / 2) == pytest.approx((1.0, 0.0), abs=1e-12)
+    below = _fn_ft(SUN_FAIRED, math.pi / 6 - 1e-9)
+    above = _fn_ft(SUN_FAIRED, math.pi / 6 + 1e-9)
+    # the branches meet to within 3e-4 at 30 deg (0.4997 against 0.5)
+    assert below == pytest.approx(above, abs=3e-4)
 
 
 def test_drag_coefficient_hand_values_and_continuity():

@@ -4,6 +4,13 @@
   the angle eta in [0, pi/2] between the relative flow and the cable.
 * Ribbon-faired cable, W(145) (Folb & Nelligan); W(145b) is the tangential function
   f_t (the reference prints it as f_n).
+* The loading functions of the nodal-position paper (Sun et al., shared/reference/
+  nodal-position-fem-towed-cable-paper.md, eqs. 28-29; the OCR is damaged, read as
+  below), meant with a constant C_D equal to the paper's drag factor D:
+  bare, eq. 28: f_n = sin^2 a, f_t = -0.019 + 0.0239 cos a + 0.02 sin a + 0.001 cos 2a
+  (f_t is 0.0059 along the flow and 0 across it); faired, eq. 29: f_n = g(a) sin a,
+  f_t = g(a) cos a with g = 0.273 + 0.827 a^2 below 30 deg and g = sin a above (the two
+  branches meet at 30 deg: 0.273 + 0.827 (pi/6)^2 = 0.4997).
 * C_D(Re), W(61)-(63) (Choo & Casarella), with Re from the normal relative speed.
   At Re -> 0 the first branch diverges; the coefficient is evaluated at no less than
   ``RE_MIN`` (the drag itself goes to zero with the speed).
@@ -17,7 +24,9 @@ from numba import njit
 
 BARE = 0
 FAIRED = 1
-LOADINGS = {"bare": BARE, "faired": FAIRED}
+SUN_BARE = 2
+SUN_FAIRED = 3
+LOADINGS = {"bare": BARE, "faired": FAIRED, "sun2011_bare": SUN_BARE, "sun2011_faired": SUN_FAIRED}
 
 #: Smallest Reynolds number at which C_D(Re) is evaluated.
 RE_MIN = 1e-3
@@ -25,18 +34,24 @@ RE_MIN = 1e-3
 
 @njit(cache=True, inline="always")
 def loading_functions(kind: int, cos_eta: float, sin_eta: float) -> tuple[float, float]:
-    """(f_n, f_t) for a bare (0) or faired (1) cable.
+    """(f_n, f_t) of the loading functions ``kind`` (module docstring).
 
     Parameters
     ----------
     kind
-        BARE or FAIRED.
+        One of BARE, FAIRED, SUN_BARE, SUN_FAIRED.
     cos_eta, sin_eta
         Cosine and sine of the angle eta in [0, pi/2] between the relative flow and the
         cable (both >= 0; passing them avoids inverse trigonometry in the hot loop).
     """
     cos2 = 2.0 * cos_eta * cos_eta - 1.0
     sin2 = 2.0 * sin_eta * cos_eta
+    if kind == SUN_BARE:
+        return sin_eta * sin_eta, max(-0.019 + 0.0239 * cos_eta + 0.02 * sin_eta + 0.001 * cos2, 0.0)
+    if kind == SUN_FAIRED:
+        eta = math.atan2(sin_eta, cos_eta)
+        g = 0.273 + 0.827 * eta * eta if eta < math.pi / 6.0 else sin_eta
+        return g * sin_eta, g * cos_eta
     if kind == BARE:
         eta = math.atan2(sin_eta, cos_eta)
         fn = 0.5 - 0.1 * cos_eta + 0.1 * sin_eta - 0.4 * cos2 - 0.11 * sin2

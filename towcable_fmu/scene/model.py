@@ -37,8 +37,9 @@ class Segment:
                                    doc="N_I: equally spaced trapezoidal points per element for distributed loads")
     compression: bool = spec(True, doc="true: the axial stiffness also acts in compression (the reference's "
                                        "model); false: tension-only material, a slack cable carries no load")
-    loading: str = spec("bare", choices=("bare", "faired"),
-                        doc="drag loading functions: bare cable W(60) or ribbon-faired W(145)")
+    loading: str = spec("bare", choices=("bare", "faired", "sun2011_bare", "sun2011_faired"),
+                        doc="drag loading functions: bare cable W(60), ribbon-faired W(145), or the "
+                            "nodal-position paper's bare and faired eqs. 28-29 (use with drag_coefficient)")
     drag_coefficient: float | None = spec(None, unit="-", gt=0.0,
                                           doc="constant common drag coefficient C_D; default: C_D(Re) of W(61)-(63)")
     drag_amplification: float = spec(1.0, unit="-", ge=0.0, le=10.0,
