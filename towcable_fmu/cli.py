@@ -1,4 +1,4 @@
-"""Command line: ``towcable scenes | static | run | cosim | study-compensation``.
+"""Command line: ``towcable scenes | static | run | cosim | study-compensation | sweep | sweep-plot | docs``.
 
 Output names and units follow the variable contract (``contract.toml``); every number
 printed is in SI units.
@@ -47,8 +47,9 @@ class Progress:
         total = t_end - self.t_start
         rate = done / elapsed if elapsed > 0 else float("nan")
         eta = (total - done) / rate if rate > 0 else float("nan")
+        eta_text = f"{eta:6.1f} s" if math.isfinite(eta) else "    -- s"
         self.stream.write(f"\r  t = {t:9.2f} / {t_end:.2f} s  ({100 * done / total:5.1f} %)  "
-                          f"{rate:7.1f} x real time  ETA {eta:6.1f} s")
+                          f"{rate:7.1f} x real time  ETA {eta_text}")
         if t >= t_end:
             self.stream.write("\n")
         self.stream.flush()
@@ -59,9 +60,18 @@ def _overrides(values: Sequence[str] | None) -> list[tuple[str, object]]:
 
 
 def _simulation(args: argparse.Namespace):
+    scene = load_scene(args.scene, _overrides(args.set))
+    if getattr(scene, "model", "ancf") == "rigid_link":
+        from .rigidlink.simulation import RigidLinkSimulation
+
+        return RigidLinkSimulation(scene)
+    if scene.cable.formulation == "nodal_position":
+        from .nodal.simulation import NodalSimulation
+
+        return NodalSimulation(scene)
     from .simulation import Simulation
 
-    return Simulation(load_scene(args.scene, _overrides(args.set)))
+    return Simulation(scene)
 
 
 def cmd_scenes(args: argparse.Namespace) -> int:
@@ -88,7 +98,7 @@ def cmd_static(args: argparse.Namespace) -> int:
     else:
         print(f"statics of '{args.scene}'")
         for k, v in summary.items():
-            print(f"  {k:28s} {v:14.6g} {contract.unit_of(k)}")
+            print(f"  {k:28s} {v:14.6g} {getattr(sim, 'unit_of', contract.unit_of)(k)}")
     return 0
 
 
@@ -106,9 +116,17 @@ def write_csv(path: Path, series: dict) -> None:
 def cmd_run(args: argparse.Namespace) -> int:
     """Run a scene in time and write CSV (and optionally a plot)."""
     sim = _simulation(args)
+    if args.animate and (getattr(sim.scene, "model", "ancf") != "ancf" or sim.scene.cable.formulation != "ancf"):
+        raise TowcableError(f"--animate is not available for the model of '{args.scene}' (ANCF scenes only)")
     progress = None if args.quiet else Progress()
     start = time.perf_counter()
-    series = sim.run(args.duration, interval=args.interval, progress=progress)
+    if args.animate:
+        from .frames import run_with_frames
+
+        series, frames = run_with_frames(sim, args.duration, 1.0 / args.fps, interval=args.interval,
+                                         progress=progress)
+    else:
+        series = sim.run(args.duration, interval=args.interval, progress=progress)
     wall = time.perf_counter() - start
     output = Path(args.output)
     output.parent.mkdir(parents=True, exist_ok=True)
@@ -117,10 +135,15 @@ def cmd_run(args: argparse.Namespace) -> int:
         from .plots import plot_run
 
         plot_run(series, Path(args.plot), title=f"{args.scene}: {sim.scene.title}")
+    if args.animate:
+        from .animation import write_animation
+
+        write_animation(frames, sim.scene, Path(args.animate), title=str(args.scene))
     if not args.quiet:
         stats = sim.statistics()
+        written = [str(f) for f in (args.plot, args.animate) if f]
         print(f"wrote {output} ({len(series['time'])} samples)"
-              + (f" and {args.plot}" if args.plot else ""), file=sys.stderr)
+              + (" and " + ", ".join(written) if written else ""), file=sys.stderr)
         print(f"{args.duration:g} s simulated in {wall:.2f} s wall time "
               f"({args.duration / wall:.1f} x real time), {stats['solver.steps']} steps", file=sys.stderr)
     return 0
@@ -160,6 +183,15 @@ def cmd_study_compensation(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_docs(args: argparse.Namespace) -> int:
+    """Write the reference documentation (scene keys, FMU variables, command line)."""
+    from .docs_gen import write_reference
+
+    for path in write_reference(Path(args.output)):
+        print(f"wrote {path}", file=sys.stderr)
+    return 0
+
+
 def _positive(text: str) -> float:
     value = float(text)
     if not (math.isfinite(value) and value > 0):
@@ -192,6 +224,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--output", required=True, help="CSV file to write (columns named as the outputs)")
     p.add_argument("--interval", type=_positive, default=None, help="output interval [s] (default: scene)")
     p.add_argument("--plot", default=None, help="PNG file with time-series plots")
+    p.add_argument("--animate", default=None, metavar="FILE.gif",
+                   help="animated GIF of the cable, winch, sheave and towed body (side view and close-up)")
+    p.add_argument("--fps", type=_positive, default=10.0,
+                   help="animation frames per second of simulated time, rounded to a multiple of the output "
+                        "interval; the GIF plays in real time (default 10)")
     p.add_argument("--quiet", action="store_true", help="no progress or summary on stderr")
     p.set_defaults(func=cmd_run)
 
@@ -245,6 +282,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--fmus", default="fmus", help="folder of the FMUs (built there when missing or stale; default fmus/)")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
     p.set_defaults(func=cmd_study_compensation)
+
+    from .sweep.cli import add_parsers as add_sweep_parsers
+
+    add_sweep_parsers(sub)
+
+    p = sub.add_parser("docs", help="write the reference documentation (scene keys, FMU variables, command line)",
+                       description="Generates Markdown from the scene schema, the variable contract and this "
+                                   "parser: scene_keys.md, fmu_variables.md, cli.md.")
+    p.add_argument("--output", default="docs/reference", help="output folder (default docs/reference)")
+    p.set_defaults(func=cmd_docs)
     return parser
 
 

@@ -88,6 +88,9 @@ class Simulation:
     """
 
     def __init__(self, scene: Scene) -> None:
+        if scene.cable.formulation != "ancf":
+            raise SceneError("cable.formulation", scene.cable.formulation, "'ancf' for this class (a nodal-position "
+                             "cable runs in towcable_fmu.nodal.simulation.NodalSimulation)")
         self.scene = scene
         self.mesh: Mesh = build_mesh(scene)
         self.model: CableModel = build_model(scene, self.mesh)
@@ -412,12 +415,16 @@ class Simulation:
         return r
 
     def node_positions(self) -> np.ndarray:
-        """Node positions [m], shape (nn, 3)."""
-        return self.state.q.reshape(-1, 2, 3)[:, 0, :].copy()
+        """Node positions [m], shape (nn, 3) (a rigid load's point is not a node)."""
+        return self._cable_coordinates(self.state.q)[:, 0, :].copy()
 
     def node_velocities(self) -> np.ndarray:
         """Node velocities [m/s], shape (nn, 3)."""
-        return self.state.v.reshape(-1, 2, 3)[:, 0, :].copy()
+        return self._cable_coordinates(self.state.v)[:, 0, :].copy()
+
+    def _cable_coordinates(self, x: np.ndarray) -> np.ndarray:
+        """The cable's part of a coordinate vector as (nn, 2, 3): position and slope per node."""
+        return x[:6 * self.mesh.n_nodes].reshape(-1, 2, 3)
 
     def shape(self, points_per_element: int = 8) -> tuple[np.ndarray, np.ndarray]:
         """The cable centreline sampled within the elements (for plots and sag).
@@ -428,7 +435,7 @@ class Simulation:
             Unstretched arc length from the top [m], shape (k,), and positions [m], (k, 3).
         """
         xi = np.linspace(0.0, 1.0, points_per_element + 1)[:-1]
-        x = self.state.q.reshape(-1, 6)
+        x = self._cable_coordinates(self.state.q).reshape(-1, 6)
         arcs, pts = [], []
         for e, length in enumerate(self.mesh.lengths):
             n = element.shape_functions(xi, length)

@@ -11,7 +11,9 @@ co-simulation master call. For every FMU of the contract (``[fmus]`` in
 3. rewrites modelDescription.xml: UnitDefinitions of the units used, the unit of every
    Real variable and the description of every variable from the contract, a
    DefaultExperiment, and checks that the variables are exactly those of the contract;
-4. (``check=True``) runs ``fmpy validate`` and ``fmutool -check`` and raises if either
+4. installs the loader layer of :mod:`towcable_fmu.fmi.native` (C, compiled here) as the
+   Linux binary, so that the FMU also runs in hosts without Python;
+5. (``check=True``) runs ``fmpy validate`` and ``fmutool -check`` and raises if either
    reports a problem.
 
 A stamp file (``build_stamp.json``) records a hash of the contract and the slave sources:
@@ -32,6 +34,7 @@ from pathlib import Path
 from typing import Iterable
 
 from .. import contract
+from . import native
 
 #: Communication step written as DefaultExperiment/stepSize [s].
 DEFAULT_STEP = 0.01
@@ -50,7 +53,7 @@ class FmuCheckError(RuntimeError):
 def _sources() -> list[Path]:
     """Files whose content defines the FMUs (for the stamp)."""
     files = [Path(contract.__file__), Path(contract.__file__).with_suffix(".toml"), Path(__file__),
-             Path(__file__).with_name("slave.py")]
+             Path(__file__).with_name("slave.py"), Path(native.__file__), native.LOADER_SOURCE]
     for spec in contract.fmus().values():
         files.append(Path(import_module(spec.slave.split(":")[0]).__file__))
     return files
@@ -140,19 +143,26 @@ def annotate_model_description(xml: bytes, spec: contract.FmuSpec) -> bytes:
     return b'<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="utf-8")
 
 
-def _rewrite(fmu: Path, spec: contract.FmuSpec) -> None:
+def _rewrite(fmu: Path, spec: contract.FmuSpec, loader: Path | None = None) -> None:
+    with zipfile.ZipFile(fmu) as src:
+        files = {info.filename: src.read(info.filename) for info in src.infolist()}
+    files["modelDescription.xml"] = annotate_model_description(files["modelDescription.xml"], spec)
+    if loader is not None:
+        identifier = ET.fromstring(files["modelDescription.xml"]).find("CoSimulation").get("modelIdentifier")
+        files = native.loader_entries(files, identifier, loader)
     tmp = fmu.with_suffix(".tmp")
-    with zipfile.ZipFile(fmu) as src, zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as dst:
-        for info in src.infolist():
-            data = src.read(info.filename)
-            if info.filename == "modelDescription.xml":
-                data = annotate_model_description(data, spec)
-            dst.writestr(info.filename, data)
+    with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as dst:
+        for name, data in files.items():
+            dst.writestr(name, data)
     tmp.replace(fmu)
 
 
-def build_fmu(spec: contract.FmuSpec, outdir: Path) -> Path:
-    """Build one FMU into ``outdir`` (``<name>.fmu``) and annotate its modelDescription.xml."""
+def build_fmu(spec: contract.FmuSpec, outdir: Path, loader: Path | None = None) -> Path:
+    """Build one FMU into ``outdir`` (``<name>.fmu``) and annotate its modelDescription.xml.
+
+    ``loader``: the compiled loader layer (:func:`towcable_fmu.fmi.native.compile_loader`)
+    to install as the Linux binary, or None to keep pythonfmu's (Python hosts only).
+    """
     from pythonfmu.builder import FmuBuilder
 
     outdir.mkdir(parents=True, exist_ok=True)
@@ -165,11 +175,12 @@ def build_fmu(spec: contract.FmuSpec, outdir: Path) -> Path:
             sys.path[:] = saved_path
             sys.modules.pop(script.stem, None)
     fmu = Path(fmu)
-    _rewrite(fmu, spec)
+    _rewrite(fmu, spec, loader)
     return fmu
 
 
-def build_fmus(outdir: str | Path = "fmus", names: Iterable[str] | None = None, check: bool = False) -> dict[str, Path]:
+def build_fmus(outdir: str | Path = "fmus", names: Iterable[str] | None = None, check: bool = False,
+               native_loader: bool = True) -> dict[str, Path]:
     """Build the FMUs of the contract into ``outdir``.
 
     Parameters
@@ -180,6 +191,10 @@ def build_fmus(outdir: str | Path = "fmus", names: Iterable[str] | None = None, 
         FMU names to build (default: all three).
     check
         Run :func:`check_fmus` on the result.
+    native_loader
+        Install the loader layer that lets the FMUs run in hosts without Python
+        (:mod:`towcable_fmu.fmi.native`); without a C compiler or a shared libpython it is
+        left out with a warning.
 
     Returns
     -------
@@ -189,7 +204,9 @@ def build_fmus(outdir: str | Path = "fmus", names: Iterable[str] | None = None, 
     outdir = Path(outdir)
     specs = contract.fmus()
     names = list(specs) if names is None else list(names)
-    paths = {name: build_fmu(specs[name], outdir) for name in names}
+    with tempfile.TemporaryDirectory(prefix="towcable_loader_") as tmp:
+        loader = native.loader_or_warning(tmp) if native_loader else None
+        paths = {name: build_fmu(specs[name], outdir, loader) for name in names}
     if set(names) == set(specs):
         (outdir / STAMP).write_text(json.dumps({"hash": source_hash(), "fmus": sorted(names)}), encoding="utf-8")
     if check:
@@ -256,15 +273,27 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("-o", "--output", default="fmus", help="output folder (default: fmus/)")
     parser.add_argument("--check", action="store_true", help="validate with fmpy validate and fmutool -check")
     parser.add_argument("--ssp", action="store_true", help="also write the SSP file of the system (TowedCableSystem.ssp)")
+    parser.add_argument("--no-native", action="store_true", help="keep pythonfmu's binary (the FMUs then load "
+                        "only in Python hosts) instead of compiling the loader layer with the C compiler")
+    parser.add_argument("--crosscheck", metavar="DIR", help="also write the FMI Cross-Check artefacts (FMU, "
+                        "_ref.csv, _in.csv, _ref.opt) under DIR/fmus/2.0/cs/linux64/towcable/<version>/")
     parser.add_argument("names", nargs="*", help="FMUs to build (default: all)")
     args = parser.parse_args(argv)
-    paths = build_fmus(args.output, args.names or None)
+    paths = build_fmus(args.output, args.names or None, native_loader=not args.no_native)
     for name, path in paths.items():
         print(f"built {path}")
     if args.ssp:
         from .ssp import write_ssp
 
         print(f"wrote {write_ssp(Path(args.output) / 'TowedCableSystem.ssp', paths)}")
+    if args.crosscheck:
+        from .crosscheck import write_crosscheck
+
+        if set(paths) != set(contract.fmus()):
+            parser.error("--crosscheck needs all three FMUs (give no NAME)")
+
+        for folder in write_crosscheck(paths, args.crosscheck).values():
+            print(f"wrote {folder}")
     if args.check:
         try:
             check_fmus(paths.values())

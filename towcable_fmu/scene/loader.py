@@ -14,11 +14,14 @@ import re
 import tomllib
 from importlib import resources
 from pathlib import Path
-from typing import Any, Iterable, Mapping
+from typing import TYPE_CHECKING, Any, Iterable, Mapping
 
 from ..errors import SceneError
 from .model import Scene
 from .schema import parse
+
+if TYPE_CHECKING:
+    from ..rigidlink.scene import RigidLinkScene
 
 _INDEX = re.compile(r"^(?P<name>[^\[\]]+)\[(?P<index>\d+)\]$")
 
@@ -103,7 +106,8 @@ def apply_overrides(table: dict, overrides: Mapping[str, Any] | Iterable[tuple[s
     return out
 
 
-def load_scene(name_or_path: str | Path, overrides: Mapping[str, Any] | Iterable[tuple[str, Any]] = ()) -> Scene:
+def load_scene(name_or_path: str | Path,
+               overrides: Mapping[str, Any] | Iterable[tuple[str, Any]] = ()) -> Scene | RigidLinkScene:
     """Load, override and validate a scene.
 
     Parameters
@@ -115,8 +119,9 @@ def load_scene(name_or_path: str | Path, overrides: Mapping[str, Any] | Iterable
 
     Returns
     -------
-    Scene
-        The validated scene; relative file paths in it are resolved against
+    Scene or RigidLinkScene
+        The validated scene (a rigid-link scene when its top-level ``model`` key is
+        ``"rigid_link"``); relative file paths in it are resolved against
         ``Scene.base_dir``, which defaults to the scene file's folder.
 
     Raises
@@ -135,6 +140,18 @@ def load_scene(name_or_path: str | Path, overrides: Mapping[str, Any] | Iterable
     return scene_from_table(table)
 
 
-def scene_from_table(table: dict) -> Scene:
-    """Validate a parsed TOML document into a :class:`Scene`."""
-    return parse(Scene, table, "")
+#: Model kinds a scene may name with its top-level ``model`` key (default "ancf").
+MODELS = ("ancf", "rigid_link")
+
+
+def scene_from_table(table: dict) -> Scene | RigidLinkScene:
+    """Validate a parsed TOML document into a :class:`Scene` (or, with ``model =
+    "rigid_link"``, a :class:`~towcable_fmu.rigidlink.scene.RigidLinkScene`)."""
+    model = table.get("model", "ancf")
+    if model not in MODELS:
+        raise SceneError("model", model, "one of " + ", ".join(repr(m) for m in MODELS))
+    if model == "rigid_link":
+        from ..rigidlink.scene import RigidLinkScene  # here: rigidlink.scene itself imports this package
+
+        return parse(RigidLinkScene, table, "")
+    return parse(Scene, {k: v for k, v in table.items() if k != "model"}, "")

@@ -108,6 +108,10 @@ class Cable:
     top: End = spec(End(type="pinned", position=(0.0, 0.0, 0.0)), doc="end at the first node")
     bottom: End = spec(End(), doc="end at the last node")
     initial: InitialShape = spec(InitialShape(), doc="rough initial shape for the statics solver")
+    formulation: str = spec("ancf", choices=("ancf", "nodal_position"),
+                            doc="ancf: gradient-deficient ANCF elements (Westin 2018); nodal_position: straight "
+                                "two-node elements in nodal positions (Sun et al., towcable_fmu/nodal/; no "
+                                "bending, top pinned, bottom free with the lumped body)")
 
     def validate(self, key: str) -> None:
         """Cross-field checks."""
@@ -292,6 +296,9 @@ class SolverSettings:
     """Time integration: generalised-alpha with Newton on a banded Jacobian."""
 
     time_step: float = spec(0.01, unit="s", gt=0.0, le=10.0, doc="nominal (maximum) time step h")
+    integrator: str = spec("genalpha", choices=("genalpha", "rk4"),
+                           doc="genalpha: implicit generalised-alpha with Newton; rk4: explicit classical "
+                               "Runge-Kutta with fixed steps (cable.formulation = 'nodal_position' only)")
     rho_inf: float = spec(0.8, unit="-", ge=0.0, le=1.0,
                           doc="spectral radius at infinite frequency (1: no numerical damping)")
     adaptive: bool = spec(False, doc="adapt the step to keep the local error estimate below rtol/atol")
@@ -349,6 +356,8 @@ class Scene:
 
     def validate(self, key: str) -> None:
         """Cross-section checks."""
+        if self.solver.integrator == "rk4" and self.cable.formulation != "nodal_position":
+            raise SceneError("solver.integrator", "rk4", "'genalpha' unless cable.formulation = 'nodal_position'")
         if (self.cable.top.type == "winch") != (self.winch is not None):
             raise SceneError("cable.top.type", self.cable.top.type, "'winch' exactly when a [winch] is given")
         if self.compensation is not None and self.winch is None:

@@ -196,9 +196,75 @@ def parse(cls: type, table: dict, key: str) -> Any:
     return obj
 
 
+def _type_name(tp: Any, sp: Spec) -> str:
+    """Kind of value a key takes, in words."""
+    origin = typing.get_origin(tp)
+    if origin in (list, tuple):
+        count = f"{sp.length} " if sp.length is not None else ""
+        item = typing.get_args(tp)[0] if typing.get_args(tp) else float
+        return f"list of {count}" + ("integers" if item is int else "numbers")
+    if tp is dict or origin is dict:
+        return "table"
+    return {bool: "boolean", str: "string", int: "integer", float: "number"}.get(tp, getattr(tp, "__name__", str(tp)))
+
+
+def _allowed_text(tp: Any, sp: Spec) -> str:
+    """What a key allows, by its type and :class:`Spec`."""
+    if tp is bool:
+        return "true or false"
+    if tp is str and sp.choices is None:
+        return "any string"
+    if tp is dict or typing.get_origin(tp) is dict:
+        return "a table"
+    return sp.allowed()
+
+
+def toml_text(value: Any) -> str:
+    """A default value written as in a scene file (TOML); ``None`` is "absent"."""
+    if value is None:
+        return "absent"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(toml_text(v) for v in value) + "]"
+    if dataclasses.is_dataclass(value):
+        base = type(value)()
+        changed = [(f.name, getattr(value, f.name)) for f in dataclasses.fields(value)
+                   if getattr(value, f.name) != getattr(base, f.name)]
+        return "{" + ", ".join(f"{name} = {toml_text(v)}" for name, v in changed) + "}"
+    return repr(value)
+
+
+def _default_text(f: dataclasses.Field) -> str:
+    if f.default is not REQUIRED:
+        return toml_text(f.default)
+    if f.default_factory is not REQUIRED:  # type: ignore[misc]
+        return toml_text(f.default_factory())  # type: ignore[misc]
+    return "required"
+
+
 def describe(cls: type, key: str = "") -> list[dict[str, str]]:
-    """Flatten the schema of ``cls`` into rows (key, type, unit, default, allowed, doc),
-    for generated reference documentation."""
+    """Flatten the schema of ``cls`` into rows for generated reference documentation.
+
+    Parameters
+    ----------
+    cls
+        A dataclass whose fields carry :func:`spec` metadata.
+    key
+        Dotted path of ``cls``'s table.
+
+    Returns
+    -------
+    list of dict
+        One row per key, in declaration order, with the entries ``key`` (dotted; ``[]``
+        marks an array of tables), ``type``, ``unit``, ``default`` (as written in TOML;
+        "required", or "absent" for an optional table or value), ``allowed`` and
+        ``doc``. A nested table has a row of its own (type "table" or "array of
+        tables"; its default is the whole table when it is left out) before the rows
+        of its keys.
+    """
     rows: list[dict[str, str]] = []
     hints = typing.get_type_hints(cls)
     for f in dataclasses.fields(cls):
@@ -207,18 +273,14 @@ def describe(cls: type, key: str = "") -> list[dict[str, str]]:
         path = f"{key}.{f.name}" if key else f.name
         origin = typing.get_origin(tp)
         item = typing.get_args(tp)[0] if origin in (list, tuple) and typing.get_args(tp) else None
+        row = {"key": path, "type": _type_name(tp, sp), "unit": sp.unit, "default": _default_text(f),
+               "allowed": _allowed_text(tp, sp), "doc": sp.doc}
         if _is_dataclass_type(tp):
+            rows.append(dict(row, type="table", allowed="a table"))
             rows.extend(describe(tp, path))
-            continue
-        if item is not None and _is_dataclass_type(item):
+        elif item is not None and _is_dataclass_type(item):
+            rows.append(dict(row, type="array of tables", allowed="one or more tables"))
             rows.extend(describe(item, path + "[]"))
-            continue
-        if f.default is not REQUIRED:
-            default = repr(f.default)
-        elif f.default_factory is not REQUIRED:  # type: ignore[misc]
-            default = repr(f.default_factory())  # type: ignore[misc]
         else:
-            default = "required"
-        rows.append({"key": path, "type": getattr(tp, "__name__", str(tp)), "unit": sp.unit,
-                     "default": default, "allowed": sp.allowed(), "doc": sp.doc})
+            rows.append(row)
     return rows

@@ -1,0 +1,97 @@
+"""Reference documentation: generated files up to date and complete; worked examples run."""
+
+from __future__ import annotations
+
+import difflib
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from towcable_fmu import contract
+from towcable_fmu.cli import build_parser
+from towcable_fmu.docs_gen import REGENERATE, render, write_reference
+from towcable_fmu.scene.model import Scene
+from towcable_fmu.scene.schema import describe
+
+DOCS = Path(__file__).resolve().parents[1] / "docs"
+EXAMPLES = sorted((DOCS / "examples").glob("*.md"))
+BLOCK = re.compile(r"^```(python|bash)\n(.*?)^```", re.S | re.M)
+
+
+def test_committed_reference_matches_a_fresh_generation(tmp_path):
+    written = write_reference(tmp_path)
+    committed = sorted(p.name for p in (DOCS / "reference").glob("*.md"))
+    assert committed == sorted(p.name for p in written), f"docs/reference has other files; run `{REGENERATE}`"
+    for path in written:
+        old = (DOCS / "reference" / path.name).read_text(encoding="utf-8")
+        new = path.read_text(encoding="utf-8")
+        diff = "".join(list(difflib.unified_diff(old.splitlines(True), new.splitlines(True), "committed",
+                                                 "generated"))[:40])
+        assert old == new, (f"docs/reference/{path.name} is out of date with the code: regenerate it with "
+                            f"`{REGENERATE}` and commit the result.\n{diff}")
+
+
+def test_every_scene_key_has_a_meaning_and_numbers_a_unit():
+    text = render()["scene_keys.md"]
+    for row in describe(Scene):
+        assert row["doc"], f"scene key {row['key']} has no description in towcable_fmu/scene/model.py"
+        if row["type"] in ("number", "integer") or row["type"].startswith("list of"):
+            assert row["unit"], f"scene key {row['key']} has no unit in towcable_fmu/scene/model.py"
+        assert f"| `{row['key']}` |" in text
+
+
+def test_scene_reference_shows_defaults_and_ranges():
+    rows = {r["key"]: r for r in describe(Scene)}
+    assert rows["solver.time_step"]["default"] == "0.01"
+    assert rows["solver.time_step"]["allowed"] == "> 0 and <= 10 [s]"
+    assert rows["cable.segments[].length"]["default"] == "required"
+    assert rows["cable.top"]["default"] == '{type = "pinned", position = [0.0, 0.0, 0.0]}'
+    assert rows["water"]["default"] == "absent"
+    assert rows["solver.adaptive"]["allowed"] == "true or false"
+
+
+def test_every_fmu_variable_is_in_the_reference():
+    text = render()["fmu_variables.md"]
+    for spec in contract.fmus().values():
+        section = text.split(f"## {spec.name}\n", 1)[1].split("\n## ", 1)[0]
+        for v in spec.variables:
+            unit = f"`{v.unit}`" if v.unit else ""
+            assert f"| `{v.name}` | {v.type} | {unit} |" in section, (spec.name, v.name)
+    assert text.count("| ShipMotion | TowCable |") == 18
+
+
+def test_every_command_and_option_is_in_the_reference():
+    text = render()["cli.md"]
+    parser = build_parser()
+    (sub,) = [a for a in parser._actions if a.dest == "command"]
+    for name, command in sub.choices.items():
+        assert f"## `towcable {name}`" in text
+        section = text.split(f"## `towcable {name}`", 1)[1].split("\n## ", 1)[0]
+        for action in command._actions:
+            for flag in action.option_strings:
+                if flag not in ("-h", "--help"):
+                    assert f"`{flag}" in section, (name, flag)
+
+
+def test_docs_command_writes_the_reference(tmp_path):
+    from towcable_fmu.cli import main
+
+    assert main(["docs", "--output", str(tmp_path)]) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["cli.md", "fmu_variables.md", "scene_keys.md"]
+
+
+@pytest.mark.parametrize("example", EXAMPLES, ids=lambda p: p.stem)
+def test_worked_example_runs(example, tmp_path):
+    blocks = BLOCK.findall(example.read_text(encoding="utf-8"))
+    assert blocks, f"{example.name} has no ```python or ```bash block"
+    env = dict(os.environ, PATH=os.path.dirname(sys.executable) + os.pathsep + os.environ.get("PATH", ""),
+               MPLBACKEND="Agg")
+    for k, (language, code) in enumerate(blocks):
+        command = [sys.executable, "-c", code] if language == "python" else ["bash", "-e", "-c", code]
+        done = subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=300)
+        assert done.returncode == 0, (f"{example.name}, block {k + 1} ({language}) failed:\n{code}\n"
+                                      f"--- stdout\n{done.stdout}\n--- stderr\n{done.stderr}")

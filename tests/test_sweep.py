@@ -1,0 +1,355 @@
+"""Parameter sweeps: spec validation and expansion, statistics, the results table, resume,
+failed cases, a worker killed in a local pool and on a real Dask cluster, plots."""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+import signal
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from towcable_fmu.sweep import STATISTICS, SpecError, compute_statistics, load_spec, run_sweep
+from towcable_fmu.sweep.spec import spec_from_table
+from towcable_fmu.sweep.store import read_table
+
+#: A full-scale sweep small enough for the tests: 2 s per case (statics + 40 steps).
+SPEC = """
+[sweep]
+scene = "full_scale"
+duration = {duration}
+settle = 0.5
+interval = 0.05
+output = "{output}"
+series = true
+
+[fixed]
+"sheave.contact.stiffness" = 1e8
+
+[parameters]
+hs = [1.0, 3.0]
+"solver.time_step" = [0.02, -1.0]
+"""
+
+
+def write_spec(tmp_path: Path, duration: float = 2.0, **extra) -> Path:
+    path = tmp_path / "sweep.toml"
+    text = SPEC.format(duration=duration, output=(tmp_path / "out").as_posix())
+    for key, value in extra.items():
+        text = text.replace("[parameters]\n", f"[parameters]\n{key} = {value}\n")
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def check_complete(table: Path, spec) -> list[dict[str, str]]:
+    """The table has exactly one row per case of the spec."""
+    rows = read_table(table)
+    ids = [r["case_id"] for r in rows]
+    assert len(ids) == len(set(ids)), "duplicate rows"
+    assert set(ids) == {c.case_id for c in spec.cases()}
+    return rows
+
+
+@pytest.fixture(scope="module", autouse=True)
+def kernels():
+    """Compile (or load) the kernels in this process first: forked pool processes inherit
+    them and spawned Dask workers find them in numba's cache."""
+    from towcable_fmu.simulation import Simulation
+
+    Simulation.from_scene("full_scale").run(0.1)
+
+
+# ---------------------------------------------------------------------------- spec
+def table(**parameters) -> dict:
+    return {"sweep": {"scene": "full_scale", "duration": 10.0}, "parameters": parameters}
+
+
+def test_ranges_expand_with_the_stop_included_and_every_combination_is_a_case():
+    spec = spec_from_table(table(hs={"start": 1.0, "stop": 2.0, "step": 0.5}, tp={"start": 6, "stop": 12, "num": 4},
+                                 compensation=["none", "rigorous_sheave"]))
+    assert spec.parameters["hs"] == [1.0, 1.5, 2.0]
+    assert spec.parameters["tp"] == pytest.approx([6.0, 8.0, 10.0, 12.0])
+    cases = spec.cases()
+    assert len(cases) == 3 * 4 * 2
+    assert len({c.case_id for c in cases}) == len(cases)
+    assert cases[0].values == {"hs": 1.0, "tp": 6.0, "compensation": "none"}
+    assert ("motion.hs", 1.0) in cases[0].overrides and ("compensation.algorithm", "none") in cases[0].overrides
+
+
+def test_case_id_is_the_hash_of_the_full_parameter_set():
+    base = spec_from_table(table(hs=[2, 3]))
+    same = spec_from_table(table(hs=[2.0, 3.0]))
+    assert [c.case_id for c in base.cases()] == [c.case_id for c in same.cases()]
+    longer = spec_from_table({"sweep": {"scene": "full_scale", "duration": 20.0}, "parameters": {"hs": [2, 3]}})
+    fixed = spec_from_table({**table(hs=[2, 3]), "fixed": {"motion.tp": 8.0}})
+    ids = {c.case_id for c in base.cases()}
+    assert ids.isdisjoint(c.case_id for c in longer.cases())
+    assert ids.isdisjoint(c.case_id for c in fixed.cases())
+
+
+def test_alias_G_sets_the_drag_amplification_of_every_segment():
+    case = spec_from_table(table(G=[2.5])).cases()[0]
+    keys = [k for k, v in case.overrides if v == 2.5]
+    assert keys == [f"cable.segments[{i}].drag_amplification" for i in range(5)]  # full_scale has 5 segments
+
+
+@pytest.mark.parametrize("doc, key, value, allowed", [
+    (table(hs={"start": 1.0, "stop": 2.0, "step": -0.5}), "parameters.hs.step", "-0.5", "sign of stop - start"),
+    (table(hs={"start": 1.0, "stop": 2.0}), "parameters.hs", "'start'", "exactly the keys"),
+    (table(hs=[]), "parameters.hs", "[]", "non-empty list"),
+    (table(wave=[1.0]), "parameters.wave", "[1.0]", "dotted scene key"),
+    ({"sweep": {"mode": "fast"}}, "sweep.mode", "'fast'", "'scene' or 'cosim'"),
+    ({"sweep": {"duration": 10.0, "settle": 10.0}}, "sweep.settle", "10.0", "[0, duration = 10)"),
+    ({"sweep": {"statistics": ["tension.max"]}}, "sweep.statistics[0]", "'tension.max'", "tension.sheave.max"),
+    ({"sweep": {"workers": 2}}, "sweep.workers", "2", "one of"),
+    ({"sweep": {"scene": "no_such_scene"}}, "sweep.scene", "'no_such_scene'", "built-in scene"),
+])
+def test_invalid_spec_names_key_value_and_what_is_allowed(doc, key, value, allowed):
+    with pytest.raises(SpecError) as info:
+        spec_from_table(doc)
+    message = str(info.value)
+    assert message.startswith(f"{key} = ") and value in message and allowed in message
+
+
+# ---------------------------------------------------------------------------- statistics
+def test_statistics_on_a_known_series():
+    t = np.arange(0.0, 10.0 + 1e-9, 0.5)
+    tension = 1000.0 + 100.0 * t
+    detached = (t >= 6.0) & (t < 8.0)  # 4 samples of 0.5 s
+    slack = np.where(t == 9.0, -5.0, 50.0)
+    # the towed body visits the six vertices of an octahedron of radius 2 m from t = 7.5 s
+    body = np.zeros((t.size, 3))
+    vertices = 2.0 * np.vstack([np.eye(3), -np.eye(3)]) + [10.0, 0.0, -60.0]
+    body[t < 7.5] = [50.0, 50.0, 50.0]
+    body[t >= 7.5] = vertices
+    series = {"time": t, "tension.sheave": tension, "contact.detached": detached.astype(float), "tension.min": slack,
+              "towbody.x": body[:, 0], "towbody.y": body[:, 1], "towbody.z": body[:, 2]}
+    stats = compute_statistics(series, ["tension.sheave.max", "tension.sheave.min", "tension.sheave.mean",
+                                        "contact.detached.time", "slack.time", "tension.min.min",
+                                        "contact.wrap_angle.mean"], settle=2.0)
+    assert stats["tension.sheave.max"] == pytest.approx(2000.0)
+    assert stats["tension.sheave.min"] == pytest.approx(1200.0)  # the window starts at t = 2 s
+    assert stats["tension.sheave.mean"] == pytest.approx(1600.0)
+    assert stats["contact.detached.time"] == pytest.approx(2.0)
+    assert stats["slack.time"] == pytest.approx(0.5)
+    assert stats["tension.min.min"] == -5.0
+    assert math.isnan(stats["contact.wrap_angle.mean"])  # signal missing
+    # all six points on a sphere of radius 2 m: the 95 % ellipsoid is that sphere
+    volume = compute_statistics(series, ["ellipsoid.volume"], settle=7.5)["ellipsoid.volume"]
+    assert volume == pytest.approx(4.0 / 3.0 * math.pi * 2.0 ** 3, rel=1e-9)
+
+
+# ---------------------------------------------------------------------------- the table
+def test_table_drops_a_torn_last_line_and_duplicates(tmp_path):
+    from towcable_fmu.sweep.case import CaseResult
+    from towcable_fmu.sweep.store import ResultTable
+
+    spec = load_spec(write_spec(tmp_path))
+    cases = spec.cases()
+    path = tmp_path / "out" / "results.csv"
+    tab = ResultTable(path, spec)
+    result = CaseResult(cases[0].case_id, "ok", "", {n: 1.0 for n in STATISTICS}, 0.1, "here")
+    assert tab.append(cases[0], result) and not tab.append(cases[0], result)
+    with open(path, "a", encoding="utf-8") as fh:
+        fh.write(path.read_text(encoding="utf-8").splitlines()[1] + "\n")  # a duplicate row
+        fh.write(cases[1].case_id + ",ok,3")  # cut off by an interruption
+    again = ResultTable(path, spec)
+    assert again.done() == {cases[0].case_id}
+    assert len(read_table(path)) == 1
+
+
+# ---------------------------------------------------------------------------- local runs
+@pytest.fixture(scope="module")
+def local_sweep(tmp_path_factory):
+    """The 4-case sweep (2 failing) on 2 local processes, then resumed after losing a row."""
+    tmp = tmp_path_factory.mktemp("sweep")
+    spec = load_spec(write_spec(tmp))
+    first = run_sweep(spec, workers=2, progress=False)
+    return tmp, spec, first
+
+
+def test_local_sweep_records_every_case_and_the_failures(local_sweep):
+    tmp, spec, report = local_sweep
+    rows = check_complete(spec.output / "results.csv", spec)
+    assert (report.total, report.ran, report.failed) == (4, 4, 2)
+    for row in rows:
+        if row["solver.time_step"] == "-1":
+            assert row["status"] == "failed"
+            assert "solver.time_step = -1.0 is invalid" in row["error"] and row["tension.sheave.max [N]"] == ""
+        else:
+            assert row["status"] == "ok" and row["error"] == ""
+            assert row["fixed.sheave.contact.stiffness"] == "100000000" and row["scene"] == "full_scale"
+
+
+def test_statistics_match_the_series_and_the_statics(local_sweep):
+    from towcable_fmu.simulation import Simulation
+
+    tmp, spec, _ = local_sweep
+    sim = Simulation.from_scene("full_scale", {"sheave.contact.stiffness": 1e8, "motion.hs": 1.0})
+    static = sim.initialize()["tension.sheave"]
+    for row in read_table(spec.output / "results.csv"):
+        if row["status"] != "ok":
+            continue
+        with open(spec.output / "series" / f"{row['case_id']}.csv", newline="") as fh:
+            data = list(csv.DictReader(fh))
+        t = np.array([float(r["time"]) for r in data])
+        tension = np.array([float(r["tension.sheave"]) for r in data])[t >= 0.5]
+        assert float(row["tension.sheave.max [N]"]) == pytest.approx(tension.max(), rel=1e-9)
+        assert float(row["tension.sheave.std [N]"]) == pytest.approx(tension.std(), rel=1e-6)
+        # 2 s after the start in a sea that ramps in over 20 s the cable is near its statics
+        assert float(row["tension.sheave.mean [N]"]) == pytest.approx(static, rel=0.01)
+
+
+def test_interrupted_sweep_runs_only_the_missing_cases(local_sweep):
+    tmp, spec, _ = local_sweep
+    path = spec.output / "results.csv"
+    lines = path.read_text(encoding="utf-8").splitlines(keepends=True)
+    lost = lines[-1].split(",")[0]
+    path.write_text("".join(lines[:-1]) + lines[-1][:25], encoding="utf-8")  # the last row torn
+    report = run_sweep(spec, workers=1, progress=False)
+    assert (report.skipped, report.ran) == (3, 1)
+    rows = check_complete(path, spec)
+    assert rows[-1]["case_id"] == lost
+    assert run_sweep(spec, workers=1, progress=False).ran == 0
+
+
+def test_retry_failed_reruns_only_failed_cases(local_sweep):
+    tmp, spec, _ = local_sweep
+    report = run_sweep(spec, workers=1, progress=False, retry_failed=True)
+    assert (report.ran, report.failed) == (2, 2)
+    check_complete(spec.output / "results.csv", spec)
+
+
+def test_cosim_sweep_gives_each_case_its_own_sea(tmp_path, fmu_paths):
+    """Cosim mode: the overridden [motion] reaches ShipMotion. With the same seed the ship's
+    heave is linear in the wave height, so H_s = 4 m moves the ship 4 times as far as 1 m."""
+    doc = {"sweep": {"mode": "cosim", "scene": "full_scale", "duration": 1.0, "settle": 0.2, "interval": 0.05,
+                     "step": 0.01, "output": str(tmp_path / "out"), "series": True,
+                     "fmu_dir": str(Path(fmu_paths["TowCable"]).parent)},
+            "fixed": {"motion.ramp": 0.0}, "parameters": {"hs": [1.0, 4.0]}}
+    spec = spec_from_table(doc)
+    report = run_sweep(spec, workers=2, progress=False)
+    assert (report.ran, report.failed) == (2, 0)
+    rows = check_complete(spec.output / "results.csv", spec)
+    heave = {}
+    for row in rows:
+        assert row["mode"] == "cosim" and row["status"] == "ok", row["error"]
+        with open(spec.output / "series" / f"{row['case_id']}.csv", newline="") as fh:
+            heave[row["hs"]] = np.array([float(r["ship.z"]) for r in csv.DictReader(fh)])
+    assert np.ptp(heave["1"]) > 1e-3
+    np.testing.assert_allclose(heave["4"] - heave["4"][0], 4.0 * (heave["1"] - heave["1"][0]), rtol=1e-6,
+                               atol=1e-9)
+
+
+def _kill_soon(find_pids, when_busy, timeout: float = 120.0) -> list[int]:
+    """Kill (SIGKILL) the first process that ``when_busy`` reports busy; returns its pid."""
+    killed: list[int] = []
+    deadline = time.monotonic() + timeout
+    while not killed and time.monotonic() < deadline:
+        for pid in when_busy(find_pids()):
+            os.kill(pid, signal.SIGKILL)
+            killed.append(pid)
+            break
+        time.sleep(0.05)
+    return killed
+
+
+def test_local_worker_killed_mid_case_is_retried(tmp_path):
+    import psutil
+
+    spec = load_spec(write_spec(tmp_path, duration=60.0))
+    me = psutil.Process()
+    reports = []
+    thread = threading.Thread(target=lambda: reports.append(run_sweep(spec, workers=2, progress=False)))
+    thread.start()
+    # a (forked) pool process that has used 0.3 s of CPU is in the middle of a case: a
+    # failing case takes milliseconds, a successful one (60 s simulated) about a second or more
+    killed = _kill_soon(lambda: me.children(),
+                        lambda procs: [p.pid for p in procs if sum(p.cpu_times()[:2]) > 0.3])
+    thread.join(timeout=300)
+    assert killed and reports and reports[0].resubmitted >= 1
+    rows = check_complete(spec.output / "results.csv", spec)
+    assert sum(r["status"] == "ok" for r in rows) == 2
+    assert all(r["worker"].split(":")[1] != str(killed[0]) for r in rows if r["status"] == "ok")
+
+
+# ---------------------------------------------------------------------------- Dask
+def test_dask_cluster_sweep_survives_a_killed_worker(tmp_path):
+    distributed = pytest.importorskip("distributed")
+
+    spec = load_spec(write_spec(tmp_path, duration=10.0, seed="[1, 2]"))
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                  dashboard_address=None, scheduler_port=0) as cluster, \
+            distributed.Client(cluster) as client:
+        reports = []
+        thread = threading.Thread(target=lambda: reports.append(
+            run_sweep(spec, scheduler=cluster.scheduler_address, progress=False)))
+        thread.start()
+
+        seen: dict[str, float] = {}
+
+        def busy(pids: dict[str, int]) -> list[int]:
+            # a worker that has been processing a case for a second is in the middle of it
+            now = time.monotonic()
+            active = {w for w, keys in client.processing().items() if keys}
+            for w in list(seen):
+                if w not in active:
+                    del seen[w]
+            for w in active:
+                seen.setdefault(w, now)
+            return [pids[w] for w in active if w in pids and now - seen[w] > 1.0]
+
+        killed = _kill_soon(lambda: client.run(os.getpid), busy)
+        thread.join(timeout=300)
+    assert killed and reports
+    assert (reports[0].ran, reports[0].failed) == (8, 4)
+    rows = check_complete(spec.output / "results.csv", spec)
+    assert sum(r["status"] == "ok" for r in rows) == 4
+    assert all(r["worker"].split(":")[1] != str(killed[0]) for r in rows if r["status"] == "ok")
+
+
+# ---------------------------------------------------------------------------- plots and CLI
+def test_heatmap_grid_averages_over_the_other_parameters():
+    from towcable_fmu.sweep.plots import heatmap_grid
+
+    rows = [{"case_id": str(i), "status": s, "hs": hs, "heading": hd, "seed": sd, "x [N]": v}
+            for i, (s, hs, hd, sd, v) in enumerate([
+                ("ok", "1", "90", "1", "10"), ("ok", "1", "90", "2", "20"), ("ok", "2", "90", "1", "30"),
+                ("failed", "2", "90", "2", ""), ("ok", "1", "180", "1", "50"), ("failed", "2", "180", "1", "")])]
+    xs, ys, mean, count = heatmap_grid(rows, "x", "hs", "heading")
+    assert (xs, ys) == (["1", "2"], ["90", "180"])
+    np.testing.assert_array_equal(count, [[2, 1], [1, 0]])
+    assert mean[0, 0] == 15.0 and mean[0, 1] == 30.0 and mean[1, 0] == 50.0 and math.isnan(mean[1, 1])
+    with pytest.raises(SpecError, match="--statistic = 'y'"):
+        heatmap_grid(rows, "y", "hs", "heading")
+
+
+def test_exceedance_curve():
+    from towcable_fmu.sweep.plots import exceedance
+
+    levels, share = exceedance(np.array([3.0, 1.0, 4.0, 2.0]))
+    np.testing.assert_array_equal(levels, [4.0, 3.0, 2.0, 1.0])
+    np.testing.assert_array_equal(share, [0.25, 0.5, 0.75, 1.0])
+
+
+def test_sweep_plot_command_writes_heatmap_and_exceedance(local_sweep, capsys):
+    from towcable_fmu.cli import main
+
+    tmp, spec, _ = local_sweep
+    out = tmp / "plots"
+    assert main(["sweep-plot", str(spec.output), "--heatmap", "tension.sheave.max", "hs", "solver.time_step",
+                 "--exceedance", "--output", str(out)]) == 0
+    for name in ("heatmap_tension.sheave.max_hs_solver.time_step.png", "exceedance_tension.sheave.png"):
+        assert (out / name).stat().st_size > 5000
+    assert main(["sweep-plot", str(spec.output), "--heatmap", "nope", "hs", "seed"]) == 2
+    assert "--statistic = 'nope' is invalid" in capsys.readouterr().err
+
+
+def test_example_spec_is_valid():
+    spec = load_spec(Path(__file__).parents[1] / "towcable_fmu" / "sweeps" / "example.toml")
+    assert len(spec.cases()) == 18 and spec.settings.duration == 120.0

@@ -1,0 +1,9 @@
+"""Nodal-position finite elements for the cable (Sun et al., shared/reference/
+nodal-position-fem-towed-cable-paper.md): straight two-node elements whose unknowns are
+the nodal positions, a lumped towed body at the free end, a top end held on the ship.
+
+Modules: :mod:`.model` (scene -> compiled data), :mod:`.element` (one element's loads),
+:mod:`.assembly` (residual over the mesh, matrices by coloured differences),
+:mod:`.integrators` (generalised-alpha and the paper's RK4), :mod:`.statics`,
+:mod:`.simulation` (the run interface of :class:`towcable_fmu.simulation.Simulation`).
+"""

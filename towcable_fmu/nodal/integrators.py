@@ -1,0 +1,230 @@
+"""Time integration of the nodal-position cable: generalised-alpha and the paper's RK4.
+
+* Generalised-alpha (Arnold & Bruls form, the coefficients of
+  :func:`towcable_fmu.numerics.genalpha.scheme_coefficients`): the unknowns are the
+  accelerations of the free nodes at the end of the step, found by Newton's method
+  with the banded iteration matrix ``M + gamma' C + beta' K`` (by coloured differences,
+  :func:`.assembly.iteration_matrix`; formed at the start of each step, and at every
+  iteration when the first ``max_iter`` iterations do not converge, which happens when
+  an element crosses between slack and taut) and the banded LU of
+  :mod:`towcable_fmu.numerics.banded`. A step whose Newton iteration fails is halved.
+* RK4: the classical explicit fourth-order Runge-Kutta method on (X, Xdot), as the paper
+  (section 3): at each stage the accelerations solve (M + M_a) Xddot = F with the same
+  banded LU. Its step must resolve the highest axial frequency of the mesh.
+
+The top node is prescribed (exact elimination): its position, velocity and
+acceleration follow the ship point at every stage from the drive table
+(:mod:`towcable_fmu.drive`). ``clock`` holds (t [s], current step [s]); ``stats`` the
+counters of :data:`STAT_NAMES`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..kinematics import ship_point_kinematics
+from ..numerics.banded import band_lu, band_solve
+from ..numerics.genalpha import evaluate_drive
+from .assembly import KL, KU, iteration_matrix, residual
+from .element import axial_force
+from .model import NodalModel
+
+GENALPHA = 0
+RK4 = 1
+INTEGRATORS = {"genalpha": GENALPHA, "rk4": RK4}
+STAT_NAMES = ("steps", "newton_iterations", "jacobians", "residuals", "rejected_steps")
+
+
+@njit(cache=True)
+def prescribe_top(m: NodalModel, drive_t: np.ndarray, drive_x: np.ndarray, t: float, q: np.ndarray,
+                  v: np.ndarray, a: np.ndarray) -> None:
+    """Set node 0's position [m], velocity [m/s] and acceleration [m/s^2] at time t [s]."""
+    if m.top_on_ship:
+        ship = np.empty((3, 6))
+        evaluate_drive(drive_t, drive_x, t, ship)
+        k = ship_point_kinematics(ship, m.top_point)
+        for c in range(3):
+            q[c], v[c], a[c] = k[0, c], k[1, c], k[2, c]
+    else:
+        for c in range(3):
+            q[c], v[c], a[c] = m.top_point[c], 0.0, 0.0
+
+
+@njit(cache=True)
+def _factor(ab: np.ndarray, ipiv: np.ndarray) -> bool:
+    return band_lu(ab, ab.shape[1], KL, KU, ipiv) == 0
+
+
+@njit(cache=True)
+def genalpha_step(m: NodalModel, h: float, coef: np.ndarray, tol: float, max_iter: int, t: float,
+                  drive_t: np.ndarray, drive_x: np.ndarray, q: np.ndarray, v: np.ndarray, x: np.ndarray,
+                  acc: np.ndarray, out: np.ndarray, stats: np.ndarray) -> bool:
+    """One generalised-alpha step of size h [s] from t.
+
+    Parameters
+    ----------
+    coef
+        (alpha_m, alpha_f, gamma, beta).
+    tol
+        Newton stops when the position correction is below ``tol`` times the shortest element.
+    q, v, x, acc
+        Positions, velocities, accelerations and the scheme's acceleration-like variable at t.
+    out
+        Output (4, 3 n_nodes): the same four at t + h (valid when True is returned).
+    """
+    am, af, gamma, beta = coef[0], coef[1], coef[2], coef[3]
+    q1, v1, x1, a1 = out[0], out[1], out[2], out[3]
+    ca = (1.0 - af) / (1.0 - am)
+    cq = h * h * beta * ca
+    cv = h * gamma * ca
+    x1[:] = x
+    a1[:] = (af * x - am * acc + (1.0 - af) * x1) / (1.0 - am)
+    q1[:] = q + h * v + h * h * ((0.5 - beta) * acc + beta * a1)
+    v1[:] = v + h * ((1.0 - gamma) * acc + gamma * a1)
+    prescribe_top(m, drive_t, drive_x, t + h, q1, v1, x1)
+    n = q.size
+    r = np.empty(n)
+    ab = np.empty((2 * KL + KU + 1, n - 3))
+    ipiv = np.empty(n - 3, dtype=np.int64)
+    work = np.empty((4, n))
+    scale = tol * m.L0.min()
+    for attempt in range(2):  # modified Newton, then full Newton from where it stopped
+        for it in range(max_iter):
+            residual(m, q1, v1, x1, t + h, r)
+            stats[3] += 1
+            if it == 0 or attempt == 1:
+                stats[3] += iteration_matrix(m, q1, v1, x1, t + h, 1.0, cv, cq, 1e-7 * m.L0.min() / cq, r, ab, work)
+                stats[2] += 1
+                if not _factor(ab, ipiv):
+                    return False
+            d = -r[3:]
+            band_solve(ab, n - 3, KL, KU, ipiv, d)
+            stats[1] += 1
+            if not np.all(np.isfinite(d)):
+                return False
+            x1[3:] += d
+            a1[3:] += ca * d
+            q1[3:] += cq * d
+            v1[3:] += cv * d
+            if cq * np.abs(d).max() < scale:
+                return True
+    return False
+
+
+@njit(cache=True)
+def accelerations(m: NodalModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: float,
+                  stats: np.ndarray) -> bool:
+    """Solve (M + M_a) Xddot = F for the free nodes into ``a`` (node 0's entries are kept)."""
+    n = q.size
+    a[3:] = 0.0
+    r = np.empty(n)
+    residual(m, q, v, a, t, r)
+    ab = np.empty((2 * KL + KU + 1, n - 3))
+    ipiv = np.empty(n - 3, dtype=np.int64)
+    work = np.empty((4, n))
+    stats[3] += 1 + iteration_matrix(m, q, v, a, t, 1.0, 0.0, 0.0, 1.0, r, ab, work)
+    if not _factor(ab, ipiv):
+        return False
+    d = -r[3:]
+    band_solve(ab, n - 3, KL, KU, ipiv, d)
+    a[3:] = d
+    return bool(np.all(np.isfinite(d)))
+
+
+@njit(cache=True)
+def rk4_step(m: NodalModel, h: float, t: float, drive_t: np.ndarray, drive_x: np.ndarray, q: np.ndarray,
+             v: np.ndarray, out: np.ndarray, stats: np.ndarray) -> bool:
+    """One classical RK4 step of size h [s] from (q, v) at t; the result (q, v, Xddot) at
+    t + h goes to out[0], out[1], out[2]."""
+    n = q.size
+    kq = np.zeros((4, n))
+    kv = np.zeros((4, n))
+    qs = np.empty(n)
+    vs = np.empty(n)
+    a = np.zeros(n)
+    for s in range(4):
+        c = 0.0 if s == 0 else (0.5 if s < 3 else 1.0)
+        qs[:] = q
+        vs[:] = v
+        if s > 0:
+            qs += c * h * kq[s - 1]
+            vs += c * h * kv[s - 1]
+        prescribe_top(m, drive_t, drive_x, t + c * h, qs, vs, a)
+        if not accelerations(m, qs, vs, a, t + c * h, stats):
+            return False
+        kq[s] = vs
+        kv[s] = a
+    q1, v1, x1 = out[0], out[1], out[2]
+    q1[:] = q + h / 6.0 * (kq[0] + 2.0 * kq[1] + 2.0 * kq[2] + kq[3])
+    v1[:] = v + h / 6.0 * (kv[0] + 2.0 * kv[1] + 2.0 * kv[2] + kv[3])
+    prescribe_top(m, drive_t, drive_x, t + h, q1, v1, x1)
+    return accelerations(m, q1, v1, x1, t + h, stats)
+
+
+@njit(cache=True)
+def output_values(m: NodalModel, q: np.ndarray, v: np.ndarray, x: np.ndarray, t: float, out: np.ndarray) -> None:
+    """Outputs at one instant into ``out`` (see :data:`.simulation.OUTPUT_NAMES`): the top
+    reaction's magnitude [N] and angle from the vertical [rad], the largest and smallest
+    element axial force [N], the last node's (towed body's) position [m] and velocity [m/s]."""
+    r = np.empty(q.size)
+    residual(m, q, v, x, t, r)
+    out[0] = math.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
+    out[1] = math.acos(min(max(abs(r[2]) / max(out[0], 1e-300), 0.0), 1.0))
+    hi, lo = -np.inf, np.inf
+    for e in range(m.n_nodes - 1):
+        n = axial_force(m, e, q, v)[0]
+        hi = max(hi, n)
+        lo = min(lo, n)
+    out[2], out[3] = hi, lo
+    i = q.size - 3
+    for k in range(3):
+        out[4 + k] = q[i + k]
+        out[7 + k] = v[i + k]
+
+
+@njit(cache=True)
+def advance_recording(m: NodalModel, method: int, h_max: float, h_min: float, coef: np.ndarray, tol: float,
+                      max_iter: int, q: np.ndarray, v: np.ndarray, x: np.ndarray, acc: np.ndarray,
+                      clock: np.ndarray, stats: np.ndarray, samples: np.ndarray, drive_t: np.ndarray,
+                      drive_x: np.ndarray, values: np.ndarray) -> int:
+    """Step to each time in ``samples`` [s] and record :func:`output_values` in ``values``.
+
+    Steps are ``clock[1]`` long (at most h_max, shortened to land on the samples; halved
+    after a failed generalised-alpha step, doubled back after a success).
+
+    Returns
+    -------
+    int
+        Number of samples reached (fewer than ``samples.size`` when a step failed below
+        h_min or produced non-finite values; the state is then the last accepted one).
+    """
+    out = np.empty((4, q.size))
+    for s in range(samples.size):
+        target = samples[s]
+        while clock[0] < target - 1e-12 * max(1.0, abs(target)):
+            h = min(clock[1], target - clock[0])
+            if method == GENALPHA:
+                ok = genalpha_step(m, h, coef, tol, max_iter, clock[0], drive_t, drive_x, q, v, x, acc, out, stats)
+            else:
+                ok = rk4_step(m, h, clock[0], drive_t, drive_x, q, v, out, stats)
+            ok = ok and np.all(np.isfinite(out[0])) and np.all(np.isfinite(out[1]))
+            if not ok:
+                stats[4] += 1
+                clock[1] *= 0.5
+                if clock[1] < h_min or method == RK4:
+                    return s
+                continue
+            q[:], v[:], x[:] = out[0], out[1], out[2]
+            if method == GENALPHA:
+                acc[:] = out[3]
+            clock[0] += h
+            stats[0] += 1
+            if h == clock[1]:
+                clock[1] = min(2.0 * clock[1], h_max)
+        output_values(m, q, v, x, clock[0], values[s])
+        if not np.all(np.isfinite(values[s])):
+            return s
+    return samples.size

@@ -1,0 +1,14 @@
+"""Rigid-link tug-tow model (Gomes & Gomes 2021, shared/reference/gomes2021-towing-cable-rigid-links.md).
+
+A tug and a towed vessel joined by ``n`` rigid links with elastic, damped joints, in
+the vertical plane. One concept per module: :mod:`.scene` (the scene tables),
+:mod:`.thrust` (the tug's thrust ramp), :mod:`.dynamics` (equations of motion and
+link forces for any ``n``), :mod:`.initial` (the parabolic initial shape),
+:mod:`.statics` (equilibrium between held vessels), :mod:`.simulation` (the
+``Simulation``-like driver used by the command line, imported on demand because it
+compiles numba kernels).
+"""
+
+from .scene import RigidLinkScene
+
+__all__ = ["RigidLinkScene"]

@@ -1,0 +1,115 @@
+"""Run one sweep case in the current process (a pool process or a Dask worker).
+
+:func:`run_case` never raises for a failing case: an invalid parameter, a solver that
+cannot advance, an FMU that discards a step (any exception of the case) is returned as
+a result with status ``"failed"`` and the error message, so that the sweep goes on.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import socket
+import time
+import traceback
+from pathlib import Path
+from typing import Mapping
+
+import numpy as np
+
+from .spec import Case
+from .statistics import compute_statistics
+
+
+@dataclasses.dataclass
+class CaseResult:
+    """Outcome of one case.
+
+    Attributes
+    ----------
+    case_id
+        The case's hash.
+    status
+        ``"ok"`` or ``"failed"``.
+    error
+        Error message of a failed case ('' when ok).
+    statistics
+        Statistic name -> value (NaN for a failed case).
+    wall_time
+        Wall time of the case [s].
+    worker
+        ``host:pid`` of the process that ran it.
+    series
+        The recorded series when the case asked for them, else None.
+    """
+
+    case_id: str
+    status: str
+    error: str
+    statistics: dict[str, float]
+    wall_time: float
+    worker: str
+    series: dict[str, np.ndarray] | None = None
+
+
+def simulate(case: Case, fmus: Mapping[str, Path] | None = None) -> dict[str, np.ndarray]:
+    """The case's output series (contract names, ``time`` first).
+
+    Scene mode runs :class:`~towcable_fmu.simulation.Simulation` (the scene's own ship
+    motion and compensation); cosim mode runs the three FMUs with the overridden scene's
+    ``[motion]`` table given to ShipMotion.
+    """
+    s = case.settings
+    if s.mode == "scene":
+        from ..simulation import Simulation
+
+        return Simulation.from_scene(s.scene, case.overrides).run(s.duration, interval=s.interval)
+    from ..cosim import CosimConfig, format_overrides, run_cosim
+    from ..scene import load_scene
+
+    scene = load_scene(s.scene, case.overrides)
+    motion = None
+    if scene.motion:
+        motion = "[motion]\n" + "\n".join(format_overrides([(k, v)]) for k, v in scene.motion.items())
+    config = CosimConfig(scene=s.scene, overrides=case.overrides, duration=s.duration, step=s.step,
+                         interval=s.interval, motion=motion, fmu_dir=s.fmu_dir)
+    return run_cosim(config, echo=False, fmus=fmus).series
+
+
+def run_case(case: Case, fmus: Mapping[str, Path] | None = None) -> CaseResult:
+    """Run one case and compute its statistics (see the module docstring).
+
+    Parameters
+    ----------
+    case
+        The case.
+    fmus
+        FMU name -> ``.fmu`` file (cosim mode); default: built or found in ``fmu_dir``.
+
+    Returns
+    -------
+    CaseResult
+        Status ``"ok"`` with the statistics, or ``"failed"`` with the error message.
+    """
+    worker = f"{socket.gethostname()}:{os.getpid()}"
+    start = time.perf_counter()
+    try:
+        series = simulate(case, fmus)
+        stats = compute_statistics(series, case.statistics, case.settings.settle, case.settings.fraction)
+    except Exception as exc:  # noqa: BLE001 - every failure of a case is recorded, the sweep goes on
+        message = f"{type(exc).__name__}: {exc}".replace("\n", " ")
+        if not _is_expected(exc):
+            message += " | " + traceback.format_exc(limit=3).replace("\n", " ")
+        return CaseResult(case.case_id, "failed", message, {n: math.nan for n in case.statistics},
+                          time.perf_counter() - start, worker)
+    return CaseResult(case.case_id, "ok", "", stats, time.perf_counter() - start, worker,
+                      series if case.keep_series else None)
+
+
+def _is_expected(exc: Exception) -> bool:
+    """Errors of the model (bad input, solver, FMU) carry their own explanation."""
+    from ..errors import TowcableError
+
+    return isinstance(exc, TowcableError)
+
