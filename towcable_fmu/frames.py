@@ -18,6 +18,7 @@ import numpy as np
 
 from .errors import SceneError
 from .simulation import Simulation
+from .sampling import output_interval
 
 
 @dataclasses.dataclass(frozen=True)
@@ -127,11 +128,7 @@ def run_with_frames(sim: Simulation, duration: float, frame_interval: float, int
     SolverError
         If a step fails.
     """
-    if not (math.isfinite(duration) and duration > 0.0):
-        raise SceneError("duration", duration, "a finite time > 0 s")
-    dt = sim.scene.output.interval if interval is None else interval
-    if not (math.isfinite(dt) and dt > 0.0):
-        raise SceneError("output.interval", dt, "a finite interval > 0 s")
+    dt = output_interval(duration, interval, sim.scene.output.interval)
     frame_dt = frame_stride(frame_interval, dt) * dt
     sim.initialize()
     recorder = FrameRecorder(sim)

@@ -27,6 +27,7 @@ from .numerics import genalpha
 from .numerics.statics import StaticsResult, solve_statics
 from .scene import load_scene
 from .scene.model import Scene
+from .sampling import output_interval, sample_times
 
 #: Normalised element positions at which the tension profile is sampled.
 _PROFILE_XI = np.array([0.0, 0.5, 1.0])
@@ -599,16 +600,12 @@ class Simulation:
             If a step fails or an output is not finite; the state is then that of the
             last accepted step.
         """
-        if not (math.isfinite(duration) and duration > 0.0):
-            raise SceneError("duration", duration, "a finite time > 0 s")
-        dt = self.scene.output.interval if interval is None else interval
-        if not (math.isfinite(dt) and dt > 0.0):
-            raise SceneError("output.interval", dt, "a finite interval > 0 s")
+        dt = output_interval(duration, interval, self.scene.output.interval)
         if not self._initialized:
             self.initialize()
         t0 = self.time
-        n = max(1, int(math.ceil(duration / dt - 1e-9)))
-        samples = t0 + np.minimum(np.arange(1, n + 1) * dt, duration)
+        samples = sample_times(t0, duration, dt)
+        n = samples.size
         index = self.layout.index
         values = np.empty((n + 1, index.size))
         values[0] = self._output_array()[index]

@@ -17,7 +17,7 @@ from typing import Any, Callable, Iterable, Mapping
 import numpy as np
 
 from .. import drive as drive_poly
-from ..errors import SceneError, SolverError
+from ..errors import SolverError
 from ..numerics.genalpha import scheme_coefficients
 from ..scene import load_scene
 from ..scene.model import Scene
@@ -25,6 +25,7 @@ from ..simulation import _motion_source
 from .integrators import INTEGRATORS, STAT_NAMES, accelerations, advance_recording, output_values, prescribe_top
 from .model import NodalModel, build_nodal_model
 from .statics import solve_statics
+from ..sampling import output_interval, sample_times
 
 #: Outputs of every nodal scene, then those of a scene with a towed body.
 OUTPUT_NAMES = ("tension.top", "angle.top", "tension.max", "tension.min")
@@ -132,16 +133,12 @@ class NodalSimulation:
         SolverError
             If a step fails or an output is not finite.
         """
-        if not (math.isfinite(duration) and duration > 0.0):
-            raise SceneError("duration", duration, "a finite time > 0 s")
-        dt = self.scene.output.interval if interval is None else interval
-        if not (math.isfinite(dt) and dt > 0.0):
-            raise SceneError("output.interval", dt, "a finite interval > 0 s")
+        dt = output_interval(duration, interval, self.scene.output.interval)
         if not self._initialized:
             self.initialize()
         t0 = self.time
-        n = max(1, int(math.ceil(duration / dt - 1e-9)))
-        samples = t0 + np.minimum(np.arange(1, n + 1) * dt, duration)
+        samples = sample_times(t0, duration, dt)
+        n = samples.size
         values = np.empty((n + 1, len(OUTPUT_NAMES) + len(BODY_NAMES)))
         output_values(self.model, self.q, self.v, self.x, t0, values[0])
         s = self.scene.solver
