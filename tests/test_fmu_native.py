@@ -298,7 +298,7 @@ def valgrind_run(host, fmu_dir: Path, model: str, tmp_path: Path, inputs: Path |
 @needs_valgrind
 @pytest.mark.parametrize("name", [
     "ShipMotion", "HeaveCompensation",
-    pytest.param("TowCable", marks=pytest.mark.slow),  # numba's kernels under valgrind: many minutes
+    pytest.param("TowCable", marks=[pytest.mark.slow, pytest.mark.valgrind_long]),  # numba under valgrind: > 15 min
 ])
 def test_valgrind_finds_no_memory_error_in_the_loader_or_the_host(host, crosscheck, name, tmp_path):
     folder = crosscheck[name]
