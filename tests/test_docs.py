@@ -95,3 +95,80 @@ def test_worked_example_runs(example, tmp_path):
         done = subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=300)
         assert done.returncode == 0, (f"{example.name}, block {k + 1} ({language}) failed:\n{code}\n"
                                       f"--- stdout\n{done.stdout}\n--- stderr\n{done.stderr}")
+
+
+# ------------------------------------------------------- keys validated by other packages
+def _motion_error(table: dict) -> str:
+    from ship_motion import motion_from_config
+    from towcable_fmu.errors import SceneError
+
+    with pytest.raises(SceneError) as info:
+        motion_from_config(table, key="motion")
+    return str(info.value)
+
+
+def _accepted_keys(message: str) -> set[str]:
+    """The key names an 'unknown key' error lists ("... one of the keys a, b, c")."""
+    return set(re.search(r"one of the keys ([\w, ]+)", message).group(1).split(", "))
+
+
+#: A valid table of each motion type, to which a probed key is added.
+MOTION_BASE = {"none": {"type": "none"}, "regular": {"type": "regular"},
+               "time_series": {"type": "time_series", "file": "motion.csv"},
+               "irregular": {"type": "irregular"}, "manoeuvre": {"type": "manoeuvre", "speed": 5.0}}
+
+
+def test_motion_key_lists_match_the_validator():
+    from towcable_fmu.docs_gen import motion_key_rows
+
+    rows = motion_key_rows()
+    assert set(rows) == set(MOTION_BASE)
+    for kind, kind_rows in rows.items():
+        documented = {str(r["key"]).split(".")[1] for r in kind_rows}
+        assert _accepted_keys(_motion_error({**MOTION_BASE[kind], "no_such_key": 1})) == documented, kind
+    regular = {str(r["key"]).split(".", 2)[2] for r in rows["regular"] if str(r["key"]).startswith("motion.heave.")}
+    assert _accepted_keys(_motion_error({"type": "regular", "heave": {"no_such_key": 1}})) == regular
+    rao = {str(r["key"]).split(".", 2)[2] for r in rows["irregular"] if str(r["key"]).startswith("motion.rao.")}
+    particulars = _accepted_keys(_motion_error({"type": "irregular", "rao": {"no_such_key": 1}}))
+    from_file = _accepted_keys(_motion_error({"type": "irregular", "rao": {"file": "r.csv", "no_such_key": 1}}))
+    assert particulars | from_file == rao
+
+
+def test_motion_key_ranges_match_the_validator():
+    """A value outside the documented range is refused, and the error names that key."""
+    from towcable_fmu.docs_gen import motion_key_rows
+
+    probed = 0
+    for kind, kind_rows in motion_key_rows().items():
+        for row in kind_rows:
+            if row["probe"] is None:
+                continue
+            table = {k: (dict(v) if isinstance(v, dict) else v) for k, v in MOTION_BASE[kind].items()}
+            parts = str(row["key"]).split(".")[1:]
+            target = table
+            for part in parts[:-1]:
+                target = target.setdefault(part, {})
+            target[parts[-1]] = row["probe"]
+            message = _motion_error(table)
+            assert message.startswith(f"{row['key']} = "), (row["key"], row["probe"], message)
+            probed += 1
+    assert probed > 40
+
+
+def test_every_motion_compensation_and_rigid_link_key_is_in_the_reference():
+    from towcable_fmu.docs_gen import compensation_key_rows, motion_key_rows
+    from towcable_fmu.rigidlink.scene import RigidLinkScene
+
+    text = render()["scene_keys.md"]
+    rows = [r for rs in motion_key_rows().values() for r in rs] + compensation_key_rows() + describe(RigidLinkScene)
+    for row in rows:
+        assert row["doc"], row["key"]
+        if row["type"] in ("number", "integer") or str(row["type"]).startswith("list of"):
+            assert row["unit"], row["key"]
+        assert f"| `{row['key']}` |" in text, row["key"]
+    from controllers.config import SetpointConfig
+    import dataclasses
+
+    assert {r["key"] for r in compensation_key_rows()} == {f"compensation.{f.name}"
+                                                           for f in dataclasses.fields(SetpointConfig)}
+    assert '## Rigid-link model (`model = "rigid_link"`)' in text and "### [tug] (rigid link)" in text

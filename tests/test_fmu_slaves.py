@@ -288,3 +288,61 @@ def test_time_series_outside_its_record_is_discarded(fmu_paths):
     fmu.fmu.doStep(0.0, 1.0)
     expect_discard(fmu, 1.0, 500.0, "t")
     fmu.free()
+
+
+def test_solver_failure_inside_the_fmu_is_discarded_with_message_and_unchanged_outputs(fmu_paths):
+    """A step the solver cannot take (at most three Newton iterations, no step below 9 ms,
+    an absurd ship heave acceleration of 1e6 m/s^2 at the winch) comes back as
+    fmi2Discard with the solver's message; the outputs keep their previous finite values,
+    and the model is where it was: with sane inputs the same step then gives bit for bit
+    what an instance that never saw the failed step gives. (The sane steps of this smooth,
+    ramped motion need one or two Newton iterations at the full step.)"""
+    from ship_motion import motion_from_config
+
+    overrides = "solver.max_newton_iterations=3; solver.min_time_step=0.009"
+    motion = motion_from_config({"type": "regular", "ramp": 5.0, "heave": {"amplitude": 0.8, "period": 6.0},
+                                 "pitch": {"amplitude": 2.0, "period": 7.0}})
+
+    def start(instance):
+        f = cable(fmu_paths, instance=instance, overrides=overrides)
+        set_inputs(f, ship_inputs(motion.evaluate(0.0)))
+        f.exit_initialization()
+        return f
+
+    # the undisturbed run first
+    twin = start("twin")
+    t_twin, good_twin = run_cable(twin, 0.0, [0.01] * 4, motion)
+    _, expected = run_cable(twin, t_twin, [0.01, 0.01], motion)
+    twin.free()
+
+    fmu = start(None)
+    t, good = run_cable(fmu, 0.0, [0.01] * 4, motion)
+    assert t == t_twin and good == good_twin and all_finite(good)
+    violent = motion.evaluate(t).copy()
+    violent[2, 2] = 1e6  # ship.az
+    set_inputs(fmu, ship_inputs(violent))
+    mark = len(fmu.messages)
+    expect_discard(fmu, t, 0.01, "failed")
+    log = fmu.log_text(mark)
+    assert "Newton failed at the minimum step size" in log, log
+    assert f"from t = {t:.6g} s" in log  # says where it happened
+    assert outputs(fmu) == good
+
+    # the discarded step left the model at t: the same step again, with sane inputs
+    _, after = run_cable(fmu, t, [0.01, 0.01], motion)
+    assert after == expected and after != good
+    fmu.free()
+
+
+def test_each_instance_receives_its_own_log_messages(fmu_paths):
+    """fmpy's logger proxy keeps one process-wide logger; the master's router must still
+    deliver each message to the instance that logged it."""
+    first = cable(fmu_paths, instance="first")
+    second = cable(fmu_paths, instance="second")
+    try:
+        first.exit_initialization()
+        assert any("first:" in m for _, m in first.messages), first.messages
+        assert not any("first:" in m for _, m in second.messages), second.messages
+    finally:
+        first.free()
+        second.free()

@@ -368,3 +368,203 @@ def test_newton_with_the_assembled_jacobian_converges(scene):
         band_solve(ab, n, m.kl, m.ku, ipiv, dx)
         q[free] += dx
     assert norms[4] < 1e-3 * norms[0]
+
+
+# ----------------------------------------------------------------- point kernel: G and flow acceleration
+# These tests call the per-point kernel `towcable_fmu.hydro.cable.point_load` with a
+# WaterModel built here, and compare with W(58) evaluated independently below from the
+# loading functions and C_D(Re) (themselves checked against hand values above).
+from towcable_fmu.hydro.cable import point_load  # noqa: E402
+from towcable_fmu.hydro.water import (  # noqa: E402
+    CURRENT_LINEAR, CURRENT_NONE, CURRENT_UNIFORM, WaterModel, flow)
+
+MU_W = 1.2e-3
+D_CAB = 0.03
+AREA = math.pi * D_CAB**2 / 4
+# an oblique cable direction (slope not of unit length: the kernel must normalise it)
+SLOPE = np.array([0.6, -0.4, -2.0]) * 1.7
+U_CAB = SLOPE / np.linalg.norm(SLOPE)
+DEPTH_Z = -12.0  # height of the evaluation point [m]
+
+
+def _water(kind=CURRENT_NONE, v0=(0.0, 0.0, 0.0), grad=(0.0, 0.0, 0.0), turb=None, turb_dt=0.5):
+    table = np.zeros((0, 3)) if turb is None else np.ascontiguousarray(turb, dtype=float)
+    return WaterModel(True, RHO, MU_W, 0.0, G, kind, np.array(v0, dtype=float), np.array(grad, dtype=float),
+                      0.0, turb_dt, table)
+
+
+def _load(w, kind, g_amp, cm=1.0, v=(0.0, 0.0, 0.0), a=(0.0, 0.0, 0.0), t=0.0, cd=0.0):
+    """Kernel load per unit length minus the buoyancy rho A g e_z (checked separately)."""
+    f = np.array(point_load(w, kind, D_CAB, AREA, cd, g_amp, cm, t, DEPTH_Z, *SLOPE, *v, *a))
+    f[2] -= RHO * AREA * G
+    return f
+
+
+def _drag_w58(kind, rel, u, cd_fixed=0.0):
+    """W(58) with the sign and Reynolds-number conventions of DESIGN.md / hydro/cable.py:
+    f = 1/2 rho d |V|^2 (C_D(Re_n) f_n V_n/|V_n| + C_D(Re) f_t sign(V.u) u)."""
+    rel = np.asarray(rel, dtype=float)
+    speed = np.linalg.norm(rel)
+    if speed == 0.0:
+        return np.zeros(3)
+    vt = rel @ u
+    vn_vec = rel - vt * u
+    vn = np.linalg.norm(vn_vec)
+    fn, ft = loading_functions(kind, abs(vt) / speed, vn / speed)
+    cdn = cd_fixed or drag_coefficient(RHO * D_CAB * vn / MU_W)
+    cdt = cd_fixed or drag_coefficient(RHO * D_CAB * speed / MU_W)
+    q = 0.5 * RHO * D_CAB * speed**2
+    return q * (cdn * fn * vn_vec / vn + cdt * ft * math.copysign(1.0, vt) * u)
+
+
+CURRENTS = {
+    "uniform": (CURRENT_UNIFORM, (0.9, 0.25, -0.05), (0.0, 0.0, 0.0)),
+    # linear profile: the steady drag is that of the local current at DEPTH_Z
+    "linear": (CURRENT_LINEAR, (1.2, -0.1, 0.0), (0.02, 0.01, 0.0)),
+}
+
+
+def _local_current(name):
+    _, v0, grad = CURRENTS[name]
+    return np.array(v0) + np.array(grad) * (DEPTH_Z - 0.0)
+
+
+@pytest.mark.parametrize("kind", [BARE, FAIRED])
+@pytest.mark.parametrize("g_amp", [0.5, 1.8, 3.0])
+@pytest.mark.parametrize("current", ["uniform", "linear"])
+def test_drag_amplification_applies_to_the_steady_current_drag_only(kind, g_amp, current):
+    """W(64)-(65) as corrected in DESIGN.md: mean drag = G x steady drag; the drag from the
+    cable's own motion (and from turbulence) is not amplified."""
+    v_cab = np.array([-0.7, 0.45, 0.3])
+    still = _water()
+    code, v0, grad = CURRENTS[current]
+    steady = _water(code, v0, grad)
+    uc = _local_current(current)
+
+    # (a) a cable moving in still water: the same drag with and without amplification
+    f1 = _load(still, kind, 1.0, v=v_cab)
+    fg = _load(still, kind, g_amp, v=v_cab)
+    expected = _drag_w58(kind, -v_cab, U_CAB)
+    assert np.linalg.norm(expected) > 5.0  # N/m: a real load, not a vanishing one
+    np.testing.assert_allclose(f1, expected, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(fg, f1, rtol=1e-12, atol=1e-12)
+
+    # (b) a cable at rest in a steady current: the drag scales by exactly G
+    f1 = _load(steady, kind, 1.0)
+    fg = _load(steady, kind, g_amp)
+    steady_drag = _drag_w58(kind, uc, U_CAB)
+    assert np.linalg.norm(steady_drag) > 5.0
+    np.testing.assert_allclose(f1, steady_drag, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(fg, g_amp * steady_drag, rtol=1e-12, atol=1e-12)
+
+    # (c) both: total drag at V = V_f - rdot plus (G - 1) x the steady-current-only drag
+    f1 = _load(steady, kind, 1.0, v=v_cab)
+    fg = _load(steady, kind, g_amp, v=v_cab)
+    np.testing.assert_allclose(f1, _drag_w58(kind, uc - v_cab, U_CAB), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(fg - f1, (g_amp - 1.0) * steady_drag, rtol=1e-12, atol=1e-11)
+    # the test discriminates: amplifying the relative-flow drag instead would differ by
+    wrong = (g_amp - 1.0) * _drag_w58(kind, uc - v_cab, U_CAB)
+    assert np.linalg.norm(wrong - (g_amp - 1.0) * steady_drag) > 0.1 * np.linalg.norm(wrong)
+
+
+@pytest.mark.parametrize("g_amp", [0.5, 2.5])
+def test_drag_amplification_leaves_the_turbulent_fluctuation_unamplified(g_amp):
+    """The amplified part uses the mean current only, W(64): a (here constant) turbulent
+    fluctuation adds to the relative flow but not to the amplified steady drag."""
+    code, v0, grad = CURRENTS["uniform"]
+    fluct = np.array([0.35, -0.2, 0.1])
+    w = _water(code, v0, grad, turb=np.tile(fluct, (12, 1)))
+    v_cab = np.array([0.2, 0.1, -0.15])
+    f1 = _load(w, BARE, 1.0, v=v_cab, t=2.0)
+    fg = _load(w, BARE, g_amp, v=v_cab, t=2.0)
+    uc = np.array(v0)
+    np.testing.assert_allclose(f1, _drag_w58(BARE, uc + fluct - v_cab, U_CAB), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(fg - f1, (g_amp - 1.0) * _drag_w58(BARE, uc, U_CAB), rtol=1e-12, atol=1e-11)
+
+
+def _accelerating_water(acc, dt=0.5, n=13, i0=6):
+    """Water whose flow accelerates uniformly at ``acc``: the turbulence table (the one
+    place a WaterModel carries a time-varying flow) sampled from V_f(t) = acc (t - t_i0).
+    The cubic Hermite through linear samples is exact, and at t = t_i0 the flow speed is
+    exactly zero, so no drag acts on a cable at rest."""
+    times = np.arange(n) * dt
+    table = np.outer(times - times[i0], acc)
+    return _water(turb=table, turb_dt=dt), times[i0]
+
+
+ACC_F = np.array([0.8, -0.5, 1.1])  # flow acceleration [m/s^2]
+
+
+@pytest.mark.parametrize("cm", [0.0, 1.0, 2.5])
+def test_flow_acceleration_normal_inertia_force_on_a_cable_at_rest(cm):
+    """W(66)-(69) with the Froude-Krylov term once (DESIGN.md): on a cable at rest in a
+    uniformly accelerating flow the normal force per length is (1 + C_m) rho A a_n."""
+    w, t0 = _accelerating_water(ACC_F)
+    vel, acc = np.empty(3), np.empty(3)
+    flow(w, DEPTH_Z, t0, vel, acc)  # the water model does accelerate the flow
+    np.testing.assert_allclose(vel, 0.0, atol=1e-15)
+    np.testing.assert_allclose(acc, ACC_F, rtol=1e-13)
+    flow(w, DEPTH_Z, t0 + 0.37, vel, acc)  # also between the samples
+    np.testing.assert_allclose(vel, 0.37 * ACC_F, rtol=1e-12)
+    np.testing.assert_allclose(acc, ACC_F, rtol=1e-12)
+
+    a_t = (ACC_F @ U_CAB) * U_CAB
+    a_n = ACC_F - a_t
+    assert np.linalg.norm(a_t) > 0.5 and np.linalg.norm(a_n) > 0.5
+    f = _load(w, BARE, 1.0, cm=cm, t=t0)
+    f_n = f - (f @ U_CAB) * U_CAB
+    np.testing.assert_allclose(f_n, (1.0 + cm) * RHO * AREA * a_n, rtol=1e-12, atol=1e-12)
+
+    # the cable accelerating along itself meets no added mass (W(67): normal part only)
+    still = _water()
+    along = 2.0 * U_CAB
+    np.testing.assert_allclose(_load(still, BARE, 1.0, cm=cm, a=along), 0.0, atol=1e-12)
+    # ... and across itself it meets rho A C_m a_n
+    across = np.cross(U_CAB, [0.0, 1.0, 0.0])
+    np.testing.assert_allclose(_load(still, BARE, 1.0, cm=cm, a=across), -cm * RHO * AREA * across,
+                               rtol=1e-12, atol=1e-12)
+    # a cable accelerating with the flow: no relative normal acceleration, only the
+    # Froude-Krylov part rho A a_n remains normal to the cable
+    f = _load(w, BARE, 1.0, cm=cm, a=ACC_F, t=t0)
+    f_n = f - (f @ U_CAB) * U_CAB
+    np.testing.assert_allclose(f_n, RHO * AREA * a_n, rtol=1e-12, atol=1e-12)
+
+
+def test_flow_acceleration_along_a_cable_at_rest_gives_no_inertia_force():
+    """Tangential part: DESIGN.md's reading of W(66)/(69b), f_I = rho A (C_m + 1) dV_f,n/dt,
+    puts neither added mass nor Froude-Krylov force along the cable (a deviation from the
+    pressure-gradient force rho A a_t that e.g. MoorDyn applies; kept as designed)."""
+    w, t0 = _accelerating_water(ACC_F)
+    f = _load(w, BARE, 1.0, cm=1.0, t=t0)
+    assert abs(ACC_F @ U_CAB) > 0.1 * np.linalg.norm(ACC_F)  # the flow does accelerate along it
+    assert f @ U_CAB == pytest.approx(0.0, abs=1e-12 * RHO * AREA * np.linalg.norm(ACC_F))
+
+
+def test_flow_acceleration_generalised_force_of_an_element():
+    """The same inertia load through the assembled residual: a straight, fully submerged
+    element at rest in a uniformly accelerating flow carries a uniform load f per length;
+    its generalised force is f L/2 on each node position and +-f L^2 (1 - h^2)/12 on the
+    slopes (trapezoidal rule with N_I points, step h = 1/(N_I - 1), on the cubic slope
+    shape functions: exact by Euler-Maclaurin)."""
+    length, npts, cm = 2.0, 5, 1.5
+    table = cable_scene([segment(length, 1, mu=0.1, EA=1e6, diameter=D_CAB, integration_points=npts,
+                                 added_mass_coefficient=cm)],
+                        top={"type": "pinned", "position": [0.0, 0.0, -5.0]}, water={"density": RHO})
+    m = Simulation(scene_from_table(table)).model
+    w_acc, t0 = _accelerating_water(ACC_F)
+    top = np.array([0.0, 0.0, -5.0])
+    q = np.concatenate([top, U_CAB, top + length * U_CAB, U_CAB])
+    zero = np.zeros(12)
+    ship = np.zeros((3, 6))
+    r_acc = np.zeros(12)
+    r_still = np.zeros(12)
+    residual(m._replace(water=w_acc), q, zero, zero, t0, ship, r_acc)
+    residual(m._replace(water=_water()), q, zero, zero, t0, ship, r_still)
+    gen = r_still - r_acc  # the residual holds minus the generalised hydrodynamic force
+    a_n = ACC_F - (ACC_F @ U_CAB) * U_CAB
+    f = (1.0 + cm) * RHO * AREA * a_n  # normal only (DESIGN.md on W(69b))
+    h = 1.0 / (npts - 1)
+    slope_w = length**2 * (1.0 - h * h) / 12.0
+    gen_n = gen.reshape(4, 3) - np.outer(gen.reshape(4, 3) @ U_CAB, U_CAB)
+    expected = np.array([f * length / 2, f * slope_w, f * length / 2, -f * slope_w])
+    np.testing.assert_allclose(gen_n, expected, rtol=1e-10, atol=1e-12)

@@ -1,9 +1,11 @@
-"""Parameter sweeps: spec validation and expansion, statistics, the results table, resume,
-failed cases, a worker killed in a local pool and on a real Dask cluster, plots."""
+"""Parameter sweeps: spec validation and expansion, statistics, the results table (CSV and
+Parquet), resume, failed cases, the local workers' environment, a worker killed in a local
+pool and on a real Dask cluster, plots, a small run of the example sweep."""
 
 from __future__ import annotations
 
 import csv
+import dataclasses
 import math
 import os
 import signal
@@ -57,8 +59,8 @@ def check_complete(table: Path, spec) -> list[dict[str, str]]:
 
 @pytest.fixture(scope="module", autouse=True)
 def kernels():
-    """Compile (or load) the kernels in this process first: forked pool processes inherit
-    them and spawned Dask workers find them in numba's cache."""
+    """Compile (or load) the kernels in this process first: the spawned pool processes and
+    Dask workers then find them in numba's cache."""
     from towcable_fmu.simulation import Simulation
 
     Simulation.from_scene("full_scale").run(0.1)
@@ -108,6 +110,8 @@ def test_alias_G_sets_the_drag_amplification_of_every_segment():
     ({"sweep": {"statistics": ["tension.max"]}}, "sweep.statistics[0]", "'tension.max'", "tension.sheave.max"),
     ({"sweep": {"workers": 2}}, "sweep.workers", "2", "one of"),
     ({"sweep": {"scene": "no_such_scene"}}, "sweep.scene", "'no_such_scene'", "built-in scene"),
+    ({"sweep": {"table": "results.xlsx"}}, "sweep.table", "'results.xlsx'", ".csv or .parquet"),
+    ({"sweep": {"table": "out/results.csv"}}, "sweep.table", "'out/results.csv'", "without a folder"),
 ])
 def test_invalid_spec_names_key_value_and_what_is_allowed(doc, key, value, allowed):
     with pytest.raises(SpecError) as info:
@@ -163,7 +167,95 @@ def test_table_drops_a_torn_last_line_and_duplicates(tmp_path):
     assert len(read_table(path)) == 1
 
 
+def test_parquet_table_is_typed_drops_duplicates_and_survives_a_torn_rewrite(tmp_path):
+    pa = pytest.importorskip("pyarrow")
+    import pyarrow.parquet as pq
+
+    from towcable_fmu.sweep.case import CaseResult
+    from towcable_fmu.sweep.store import ParquetTable, open_table
+
+    spec = dataclasses.replace(load_spec(write_spec(tmp_path)), table="results.parquet")
+    cases = spec.cases()
+    path = tmp_path / "out" / "results.parquet"
+    tab = open_table(path, spec)
+    assert isinstance(tab, ParquetTable) and pq.read_table(path).num_rows == 0
+    ok = CaseResult(cases[0].case_id, "ok", "", {n: 1.5 for n in STATISTICS}, 0.1, "here")
+    bad = CaseResult(cases[1].case_id, "failed", "SceneError: no", {n: math.nan for n in STATISTICS}, 0.0, "here")
+    assert tab.append(cases[0], ok) and tab.append(cases[1], bad) and not tab.append(cases[0], ok)
+    data = pq.read_table(path)
+    assert data.num_rows == 2 and data.column_names == tab.columns
+    assert data.schema.field("tension.sheave.max [N]").type == pa.float64()
+    assert data.schema.field("hs").type == pa.float64() and data.schema.field("case_id").type == pa.string()
+    assert data.column("tension.sheave.max [N]").to_pylist() == [1.5, None]  # NaN of a failed case: null
+    rows = read_table(path)
+    assert rows[1]["error"] == "SceneError: no" and rows[1]["tension.sheave.max [N]"] == "" and rows[0]["hs"] == "1"
+    # a duplicate row (written by hand) is dropped on opening; a temporary file left by an
+    # interrupted rewrite is ignored (the table itself is replaced atomically)
+    pq.write_table(pa.concat_tables([data, data.slice(0, 1)]), path)
+    (path.parent / "results.parquet.tmp").write_bytes(b"PAR1 torn")
+    again = open_table(path, spec)
+    assert again.done() == {cases[0].case_id, cases[1].case_id} and pq.read_table(path).num_rows == 2
+    assert again.drop_failed() == 1 and pq.read_table(path).column("case_id").to_pylist() == [cases[0].case_id]
+    path.write_bytes(b"not parquet")
+    with pytest.raises(SpecError, match="a readable Parquet file"):
+        open_table(path, spec)
+
+
 # ---------------------------------------------------------------------------- local runs
+def test_local_workers_start_with_one_thread_per_numerical_library():
+    """The pool's processes are spawned with OMP/OPENBLAS/MKL/NUMBA_NUM_THREADS = 1 (a second
+    OpenBLAS thread per worker multiplied the CPU time of a case by 2.5-3 on 2 cores); the master's
+    environment is left as it was."""
+    from towcable_fmu.sweep.execute import WORKER_ENVIRONMENT, local_pool, worker_environment
+
+    before = {k: os.environ.get(k) for k in WORKER_ENVIRONMENT}
+    with local_pool(1) as pool:
+        with worker_environment():
+            env = {k: pool.submit(os.getenv, k) for k in WORKER_ENVIRONMENT}
+            tasks = pool.submit(os.listdir, "/proc/self/task")
+        env, tasks = {k: v.result(timeout=120) for k, v in env.items()}, tasks.result(timeout=120)
+    assert env == WORKER_ENVIRONMENT
+    assert len(tasks) == 1  # numpy (OpenBLAS) is loaded in the worker (by the sweep modules): no extra thread
+    assert {k: os.environ.get(k) for k in WORKER_ENVIRONMENT} == before
+
+
+def test_report_has_cpu_and_wall_time_per_case(local_sweep):
+    tmp, spec, report = local_sweep
+    assert len(report.timings) == 4 and len({t.case_id for t in report.timings}) == 4
+    for t in report.timings:
+        assert t.wall_time >= 0 and math.isfinite(t.started) and 0 <= t.cpu_time
+        if t.status == "ok":
+            assert t.cpu_time > 0
+    assert 0 < report.busy_span <= report.wall_time
+
+
+def test_parquet_sweep_resumes_without_duplicates(tmp_path):
+    pytest.importorskip("pyarrow")
+    import pyarrow.parquet as pq
+
+    from towcable_fmu.cli import main
+
+    spec = dataclasses.replace(load_spec(write_spec(tmp_path)), table="results.parquet")
+    first = run_sweep(spec, workers=2, progress=False)
+    path = spec.output / "results.parquet"
+    assert first.table == path and (first.ran, first.failed) == (4, 2)
+    rows = check_complete(path, spec)
+    ok = [r for r in rows if r["status"] == "ok"]
+    assert len(ok) == 2 and all(float(r["tension.sheave.max [N]"]) > 0 for r in ok)
+    # lose the last row (as if the sweep had been interrupted before it): only it runs again
+    data = pq.read_table(path)
+    lost = data.column("case_id")[-1].as_py()
+    pq.write_table(data.slice(0, 3), path)
+    again = run_sweep(spec, workers=1, progress=False)
+    assert (again.skipped, again.ran) == (3, 1)
+    rows = check_complete(path, spec)
+    assert rows[-1]["case_id"] == lost
+    assert run_sweep(spec, workers=1, progress=False).ran == 0
+    # the plots read Parquet alike (the folder has only results.parquet)
+    assert main(["sweep-plot", str(spec.output), "--heatmap", "tension.sheave.max", "hs", "solver.time_step",
+                 "--exceedance"]) == 0
+    assert (spec.output / "exceedance_tension.sheave.png").stat().st_size > 5000
+
 @pytest.fixture(scope="module")
 def local_sweep(tmp_path_factory):
     """The 4-case sweep (2 failing) on 2 local processes, then resumed after losing a row."""
@@ -267,10 +359,22 @@ def test_local_worker_killed_mid_case_is_retried(tmp_path):
     reports = []
     thread = threading.Thread(target=lambda: reports.append(run_sweep(spec, workers=2, progress=False)))
     thread.start()
-    # a (forked) pool process that has used 0.3 s of CPU is in the middle of a case: a
-    # failing case takes milliseconds, a successful one (60 s simulated) about a second or more
-    killed = _kill_soon(lambda: me.children(),
-                        lambda procs: [p.pid for p in procs if sum(p.cpu_times()[:2]) > 0.3])
+    table = spec.output / "results.csv"
+
+    def workers() -> list:
+        return [p for p in me.children() if "spawn_main" in " ".join(p.cmdline())]
+
+    def busy(procs) -> list[int]:
+        # both workers warm up alike, then take a case each: once the first (failing, a few
+        # milliseconds) case has its row, the other worker is in the middle of a case of 60 s
+        # simulated (a second or more); kill a worker that keeps using CPU half a second later
+        if not table.exists() or len(table.read_text(encoding="utf-8").splitlines()) < 2:
+            return []
+        used = {p.pid: sum(p.cpu_times()[:2]) for p in procs}
+        time.sleep(0.5)
+        return [p.pid for p in procs if p.is_running() and sum(p.cpu_times()[:2]) > used[p.pid] + 0.05]
+
+    killed = _kill_soon(workers, busy)
     thread.join(timeout=300)
     assert killed and reports and reports[0].resubmitted >= 1
     rows = check_complete(spec.output / "results.csv", spec)
@@ -282,7 +386,7 @@ def test_local_worker_killed_mid_case_is_retried(tmp_path):
 def test_dask_cluster_sweep_survives_a_killed_worker(tmp_path):
     distributed = pytest.importorskip("distributed")
 
-    spec = load_spec(write_spec(tmp_path, duration=10.0, seed="[1, 2]"))
+    spec = load_spec(write_spec(tmp_path, duration=60.0, seed="[1, 2]"))  # a case takes a second or more
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
                                   dashboard_address=None, scheduler_port=0) as cluster, \
             distributed.Client(cluster) as client:
@@ -294,15 +398,16 @@ def test_dask_cluster_sweep_survives_a_killed_worker(tmp_path):
         seen: dict[str, float] = {}
 
         def busy(pids: dict[str, int]) -> list[int]:
-            # a worker that has been processing a case for a second is in the middle of it
+            # a worker that has been processing a case for half a second is in the middle of it
             now = time.monotonic()
-            active = {w for w, keys in client.processing().items() if keys}
+            active = {w for w, keys in client.processing().items()
+                      if any(str(k).startswith("towcable-case-") for k in keys)}  # not warming up
             for w in list(seen):
                 if w not in active:
                     del seen[w]
             for w in active:
                 seen.setdefault(w, now)
-            return [pids[w] for w in active if w in pids and now - seen[w] > 1.0]
+            return [pids[w] for w in active if w in pids and now - seen[w] > 0.5]
 
         killed = _kill_soon(lambda: client.run(os.getpid), busy)
         thread.join(timeout=300)
@@ -350,6 +455,30 @@ def test_sweep_plot_command_writes_heatmap_and_exceedance(local_sweep, capsys):
     assert "--statistic = 'nope' is invalid" in capsys.readouterr().err
 
 
+EXAMPLE = Path(__file__).parents[1] / "towcable_fmu" / "sweeps" / "example.toml"
+
+
 def test_example_spec_is_valid():
-    spec = load_spec(Path(__file__).parents[1] / "towcable_fmu" / "sweeps" / "example.toml")
+    spec = load_spec(EXAMPLE)
     assert len(spec.cases()) == 18 and spec.settings.duration == 120.0
+
+
+def test_example_sweep_in_small_runs_and_plots(tmp_path):
+    """The example sweep with 2 s cases and 2 x 2 x 2 of its values (the full one, 18 cases of
+    120 s, is run by hand: README, Sweeps); then its heat map and exceedance curves."""
+    from towcable_fmu.cli import main
+
+    full = load_spec(EXAMPLE)
+    spec = dataclasses.replace(full, settings=dataclasses.replace(full.settings, duration=2.0, settle=0.5),
+                               parameters={"hs": [1.5, 5.0], "heading": [90.0, 180.0],
+                                           "compensation": full.parameters["compensation"]},
+                               output=tmp_path / "example")
+    report = run_sweep(spec, workers=2, progress=False)
+    assert (report.ran, report.failed) == (8, 0)
+    rows = check_complete(spec.output / "results.csv", spec)
+    assert {r["compensation"] for r in rows} == {"none", "simplified_sheave"}
+    assert all(float(r["contact.sheave_force.max [N]"]) > 0 for r in rows)
+    assert main(["sweep-plot", str(spec.output), "--heatmap", "tension.sheave.max", "hs", "heading",
+                 "--exceedance", "--label", "hs", "compensation"]) == 0
+    for name in ("heatmap_tension.sheave.max_hs_heading.png", "exceedance_tension.sheave.png"):
+        assert (spec.output / name).stat().st_size > 5000

@@ -170,20 +170,53 @@ def test_energy_of_a_swing_over_a_pulley_is_conserved_without_damping():
     assert np.abs(energy - energy[0]).max() < 0.02 * swing
 
 
-def test_pulley_static_tension_is_the_same_on_both_sides():
-    """Frictionless pulley and a light rope: the pinned side pulls as hard as the load side,
-    through the whole swing; the strain at the rope's end agrees with the load's own
-    equation of motion (its weight component plus its inertia)."""
-    sim = Simulation.from_scene("pulley_static")
+@pytest.mark.parametrize("scene", ["pulley_static", "pulley_static_2", "pulley_static_3"])
+def test_pulley_static_tension_is_the_same_on_both_sides(scene):
+    """Frictionless pulley and a light rope (Table 1's three configurations): the pinned
+    side pulls as hard as the load side, through the whole swing; the strain at the rope's
+    end agrees with the load's own equation of motion (its weight component plus its
+    inertia)."""
+    sim = Simulation.from_scene(scene)
     sim.initialize()
     res = sim.run(2.0, interval=0.005)
     taut = res["tension.load"] > 20.0
+    assert taut.mean() > 0.5
     ratio = res["tension.top"][taut] / res["tension.load"][taut]
     assert np.median(np.abs(ratio - 1.0)) < 0.02
     end = res["tension.bottom"][taut] / res["tension.load"][taut]
     assert np.median(np.abs(end - 1.0)) < 0.02
-    wrap = np.degrees(res["contact.wrap_angle"])
-    assert wrap.min() < 40.0 and wrap.max() > 120.0  # the swing of Table 1's configuration 1
+    if scene == "pulley_static":
+        wrap = np.degrees(res["contact.wrap_angle"])
+        assert wrap.min() < 40.0 and wrap.max() > 120.0  # the swing of Table 1's configuration 1
+
+
+def test_moving_pulley_at_rest_carries_the_load_and_swings_both_sides_alike():
+    """Table 2's arm at rest: the rope's end carries the load's weight and, over a
+    frictionless pulley, T - w z is the same all along a perfectly flexible rope in
+    statics (w: weight per length), so the tension at the pinned end is the load's weight
+    plus w times the height between the two ends. With the arm rotating, the two sides
+    still pull alike."""
+    from towcable_fmu.scene import load_scene
+
+    scene = load_scene("pulley_moving")
+    weight = scene.load.mass * scene.environment.gravity
+    w = scene.cable.segments[0].mass_per_length * scene.environment.gravity
+    still = Simulation(load_scene("pulley_moving", {"motion.pitch.amplitude": 0.0}))
+    out = still.initialize()
+    z = still.node_positions()[:, 2]
+    assert out["tension.load"] == pytest.approx(weight, rel=2e-3)
+    assert out["tension.bottom"] == pytest.approx(weight, rel=2e-3)
+    # bending (EI 8e-5 N m^2) shifts the axial force by up to EI kappa^2 on the bent piece
+    seg = scene.cable.segments[0]
+    bending = seg.EI / (scene.sheave.radius + 0.5 * seg.diameter) ** 2
+    assert out["tension.top"] - out["tension.bottom"] == pytest.approx(w * (z[0] - z[-1]), abs=bending)
+    sim = Simulation(scene)
+    sim.initialize()
+    res = sim.run(3.0, interval=0.005)
+    late = res["time"] > 2.0  # after the 2 s ramp
+    assert np.ptp(res["tension.load"][late]) > 0.05 * weight  # the arm does shake the load
+    ratio = res["tension.top"][late] / res["tension.load"][late]
+    assert np.median(np.abs(ratio - 1.0)) < 0.02
 
 
 def test_scenes_without_a_sheave_or_winch_never_call_the_contact_kernels():

@@ -17,6 +17,7 @@ from typing import Sequence
 
 from . import contract
 from .errors import TowcableError
+from .models import model_kind, simulation_for
 from .scene import builtin_scene_names, load_scene, parse_override
 
 
@@ -60,18 +61,7 @@ def _overrides(values: Sequence[str] | None) -> list[tuple[str, object]]:
 
 
 def _simulation(args: argparse.Namespace):
-    scene = load_scene(args.scene, _overrides(args.set))
-    if getattr(scene, "model", "ancf") == "rigid_link":
-        from .rigidlink.simulation import RigidLinkSimulation
-
-        return RigidLinkSimulation(scene)
-    if scene.cable.formulation == "nodal_position":
-        from .nodal.simulation import NodalSimulation
-
-        return NodalSimulation(scene)
-    from .simulation import Simulation
-
-    return Simulation(scene)
+    return simulation_for(load_scene(args.scene, _overrides(args.set)))
 
 
 def cmd_scenes(args: argparse.Namespace) -> int:
@@ -116,7 +106,7 @@ def write_csv(path: Path, series: dict) -> None:
 def cmd_run(args: argparse.Namespace) -> int:
     """Run a scene in time and write CSV (and optionally a plot)."""
     sim = _simulation(args)
-    if args.animate and (getattr(sim.scene, "model", "ancf") != "ancf" or sim.scene.cable.formulation != "ancf"):
+    if args.animate and model_kind(sim.scene) != "ancf":
         raise TowcableError(f"--animate is not available for the model of '{args.scene}' (ANCF scenes only)")
     progress = None if args.quiet else Progress()
     start = time.perf_counter()

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import ctypes
 import dataclasses
+import itertools
 import json
 import math
 import shutil
@@ -55,6 +56,20 @@ class CosimError(TowcableError, RuntimeError):
 
 
 # ---------------------------------------------------------------------------- one FMU
+#: Instances by the component environment their FMU passes back to the logger.
+_LOG_TARGETS: dict[int, "FmuInstance"] = {}
+_ENVIRONMENT_IDS = itertools.count(1)
+#: The one ctypes logger of this process (kept alive here; see ``FmuInstance.instantiate``).
+_LOG_ROUTER = None
+
+
+def _route_log_message(env, instance, status, category, message) -> None:
+    """Hand an FMU's log message to the :class:`FmuInstance` whose environment id ``env`` is."""
+    target = _LOG_TARGETS.get(int(env or 0))
+    if target is not None:
+        target._logger(env, instance, status, category, message)
+
+
 class FmuInstance:
     """One FMU instance on fmpy's low-level FMI 2.0 interface, addressed by contract names.
 
@@ -113,7 +128,15 @@ class FmuInstance:
                                fmi2CallbackLoggerTYPE)
 
         callbacks = fmi2CallbackFunctions()
-        callbacks.logger = fmi2CallbackLoggerTYPE(self._logger)
+        # fmpy's logger proxy keeps ONE process-wide logger: the same router for every
+        # instance, which hands each message to the instance named by its environment
+        global _LOG_ROUTER
+        if _LOG_ROUTER is None:
+            _LOG_ROUTER = fmi2CallbackLoggerTYPE(_route_log_message)
+        self._environment = next(_ENVIRONMENT_IDS)
+        _LOG_TARGETS[self._environment] = self
+        callbacks.logger = _LOG_ROUTER
+        callbacks.componentEnvironment = self._environment
         callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
         callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
         try:
@@ -185,6 +208,7 @@ class FmuInstance:
             except Exception:  # noqa: BLE001 - a failed FMU may refuse to terminate
                 pass
             self.fmu.freeInstance()
+            _LOG_TARGETS.pop(self._environment, None)
         shutil.rmtree(self.unzipdir, ignore_errors=True)
 
 

@@ -1,5 +1,12 @@
-"""The ``TowCable`` FMU slave: the towed-cable :class:`~towcable_fmu.simulation.Simulation`
-as an FMI 2.0 Co-Simulation FMU.
+"""The ``TowCable`` FMU slave: any towcable scene as an FMI 2.0 Co-Simulation FMU.
+
+The scene decides the model (:func:`towcable_fmu.models.simulation_for`): the ANCF
+cable (:class:`~towcable_fmu.simulation.Simulation`), the nodal-position cable
+(:class:`~towcable_fmu.nodal.simulation.NodalSimulation`; the winch inputs are not used)
+or the rigid-link tug-tow model
+(:class:`~towcable_fmu.rigidlink.simulation.RigidLinkSimulation`; the tug follows its own
+thrust and heave references, the ship and winch inputs are not used). "Simulation" below
+is whichever of them the scene asks for.
 
 Parameters: ``scene`` (a built-in scene name or a path to a scene TOML file),
 ``overrides`` (``KEY=VALUE`` items as for ``towcable --set``, separated by ``;``) and a
@@ -13,9 +20,8 @@ Inputs: the 18 ``ship.*`` signals and ``winch.phi_sp``, ``winch.phi_sp_rate``.
   inputs at ``t`` (the ship state is extrapolated with constant acceleration over the
   step) and copies the outputs.
 * Outputs the Simulation does not produce for the scene (for instance ``tension.sheave``,
-  ``contact.*``, ``sheave_angle`` and ``winch.payout`` until the winch-sheave contact
-  model provides them, or ``towbody.*`` without a towed body) are 0 (false); the list is
-  logged at initialisation.
+  ``contact.*`` and ``sheave_angle`` without a sheave, ``winch.*`` without a winch, or
+  ``towbody.*`` without a towed body) are 0 (false); the list is logged at initialisation.
 * Bad inputs or parameters: see :mod:`towcable_fmu.fmi.slave` (message, then
   ``fmi2Discard`` for the step; outputs never NaN).
 * FMU state: the variable values plus ``Simulation.get_state()`` (JSON-able); restoring
@@ -30,6 +36,7 @@ from typing import Any
 from pythonfmu.enums import Fmi2Status
 
 from .errors import SceneError
+from .models import model_kind, simulation_for
 from .fmi.slave import ContractSlave, parse_overrides, ship_state
 from .scene import load_scene
 
@@ -61,10 +68,8 @@ class TowCable(ContractSlave):
         return {v.name: self.values[v.name] for v in self.spec.parameters}
 
     def _build(self) -> None:
-        from .simulation import Simulation
-
         params = self._parameters()
-        self.sim = Simulation(load_scene(params["scene"], scene_overrides(params)))
+        self.sim = simulation_for(load_scene(params["scene"], scene_overrides(params)))
         self._built_from = tuple(sorted(params.items()))
 
     def _inputs(self):
@@ -79,8 +84,13 @@ class TowCable(ContractSlave):
         self._build()
         out = self.timed(self.sim.initialize, self.start_time, ship, setpoint)
         self.missing = self.set_outputs(out)
+        kind = model_kind(self.sim.scene)
+        parts = {"ancf": "ANCF elements", "nodal_position": "nodal-position elements", "rigid_link": "rigid links"}
         self.log(f"{self.instance_name}: scene '{self.values['scene']}' ({self.sim.scene.title}); "
-                 f"{self.sim.mesh.n_nodes - 1} elements; statics done")
+                 f"{self.sim.n_elements} {parts[kind]}; initialised")
+        if kind == "rigid_link":
+            self.log(f"{self.instance_name}: the rigid-link tug is driven by the scene's thrust and heave "
+                     "references; the ship.* and winch inputs are not used")
         if self.missing:
             self.log(f"{self.instance_name}: outputs this scene does not model, held at 0: "
                      + ", ".join(self.missing))

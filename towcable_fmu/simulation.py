@@ -72,6 +72,16 @@ def solver_options(scene: Scene) -> genalpha.SolverOptions:
                                   winch_kp=0.0 if w is None else w.kp, winch_kd=0.0 if w is None else w.kd)
 
 
+def check_ship_state(ship: np.ndarray) -> None:
+    """Raise a SceneError naming the entry unless ``ship`` is a finite (3, 6) array
+    (value, rate, acceleration of x, y, z [m], roll, pitch, yaw [rad])."""
+    if ship.shape != (3, 6):
+        raise SceneError("ship", f"array of shape {ship.shape}", "an array of shape (3, 6)")
+    if not np.all(np.isfinite(ship)):
+        bad = np.argwhere(~np.isfinite(ship))[0]
+        raise SceneError(f"ship[{bad[0]}, {bad[1]}]", float(ship[bad[0], bad[1]]), "a finite number")
+
+
 class Simulation:
     """One towed-cable system in time.
 
@@ -116,6 +126,12 @@ class Simulation:
         # sheave centre in the ship frame [m] (NaN: none), for the compiled outputs
         self._sheave_position = np.array(scene.sheave.position if scene.sheave is not None else [np.nan] * 3,
                                          dtype=float)
+        #: wake oscillators of an enabled [viv] table (None: no vortex-induced vibration)
+        self.viv = None
+        if scene.viv is not None and scene.viv.enabled:
+            from .viv.coupling import WakeCoupling
+
+            self.viv = WakeCoupling(scene, self.mesh.segment_of_element, self.mesh.lengths, self.model.f_const)
 
     @classmethod
     def from_scene(cls, name_or_path: str | Path,
@@ -124,6 +140,11 @@ class Simulation:
         return cls(load_scene(name_or_path, overrides))
 
     # ------------------------------------------------------------------ time
+    @property
+    def n_elements(self) -> int:
+        """Number of cable elements."""
+        return self.mesh.n_nodes - 1
+
     @property
     def time(self) -> float:
         """Current simulation time [s]."""
@@ -157,10 +178,12 @@ class Simulation:
         if not math.isfinite(t0):
             raise SceneError("t0", t0, "a finite start time [s]")
         ship0 = self.motion.evaluate(t0) if ship is None else np.asarray(ship, dtype=float)
-        self._check_ship(ship0)
+        check_ship_state(ship0)
         if setpoint is not None:
             self._setpoint = (float(setpoint[0]), float(setpoint[1]))
         st = self.state
+        if self.viv is not None:
+            self.viv.reset()
         st.phi[:] = 0.0
         if self.scene.winch is not None:
             st.phi[0] = self._setpoint[0] if setpoint is not None else self.scene.winch.phi_nom
@@ -285,8 +308,16 @@ class Simulation:
         rot = rotation_matrix(ship0[0, 3], ship0[0, 4], ship0[0, 5])
         start = rot.T @ (top - ship0[0, :3])
         radius = sc.sheave.radius + 0.5 * sc.cable.segments[0].diameter
-        x = initial_shape.draped(self.mesh.node_arc, start, np.array(sc.sheave.position), radius,
-                                 rot.T @ np.array(sc.cable.initial.direction)).reshape(-1, 2, 3)
+        departure = rot.T @ np.array(sc.cable.initial.direction)
+        if sc.idlers:  # over the sheave and each idler in turn
+            half_d = 0.5 * sc.cable.segments[0].diameter
+            x = initial_shape.over_pulleys(self.mesh.node_arc, start,
+                                           [np.array(p.position) for p in (sc.sheave, *sc.idlers)],
+                                           [p.radius + half_d for p in (sc.sheave, *sc.idlers)],
+                                           departure).reshape(-1, 2, 3)
+        else:
+            x = initial_shape.draped(self.mesh.node_arc, start, np.array(sc.sheave.position), radius,
+                                     departure).reshape(-1, 2, 3)
         x[:, 0, :] = x[:, 0, :] @ rot.T + ship0[0, :3]
         x[:, 1, :] = x[:, 1, :] @ rot.T
         return x.ravel()
@@ -307,14 +338,6 @@ class Simulation:
         x[:, 1, :] = x[:, 1, :] @ rot.T
         return x.ravel()
 
-    @staticmethod
-    def _check_ship(ship: np.ndarray) -> None:
-        if ship.shape != (3, 6):
-            raise SceneError("ship", f"array of shape {ship.shape}", "an array of shape (3, 6)")
-        if not np.all(np.isfinite(ship)):
-            bad = np.argwhere(~np.isfinite(ship))[0]
-            raise SceneError(f"ship[{bad[0]}, {bad[1]}]", float(ship[bad[0], bad[1]]), "a finite number")
-
     def _require_initialized(self) -> None:
         if not self._initialized:
             raise SolverError("call initialize() before stepping the simulation")
@@ -322,10 +345,13 @@ class Simulation:
     def _advance_with(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> dict[str, float]:
         self._cover(t_end)
         saved = self._snapshot()
-        status = genalpha.advance(self.model, self.options, self.state, self.workspace, t_end, *drive)
+        wake = None if self.viv is None else self.viv.get_state()
+        status = self._integrate(t_end, drive)
         if status != genalpha.OK:
             reached = self.time
             self._restore(saved)
+            if wake is not None:
+                self.viv.set_state(wake)
             raise SolverError(f"the solver could not advance from t = {saved[0].clock[0]:.6g} s to "
                               f"t = {t_end:.6g} s: Newton failed at the minimum step size "
                               f"{self.options.h_min:g} s near t = {reached:.6g} s")
@@ -335,6 +361,24 @@ class Simulation:
             raise SolverError(f"non-finite outputs at t = {t_end:.6g} s")
         self._last_outputs = out
         return out
+
+    def _integrate(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> int:
+        """genalpha.advance to t_end; with wake oscillators, one solver step at a time with the
+        staggered coupling of :mod:`towcable_fmu.viv.coupling`. Returns the solver status."""
+        if self.viv is None:
+            return genalpha.advance(self.model, self.options, self.state, self.workspace, t_end, *drive)
+        st = self.state
+        while self.time < t_end - 1e-12 * max(1.0, abs(t_end)):
+            t = self.time
+            h = min(self.options.h_max, t_end - t)
+            if t_end - (t + h) < 1e-9 * h:
+                h = t_end - t
+            self.viv.predict(st.v, st.a, h)
+            status = genalpha.advance(self.model, self.options, st, self.workspace, t + h, *drive)
+            if status != genalpha.OK:
+                return status
+            self.viv.correct(st.v, self.time - t)
+        return genalpha.OK
 
     def advance(self, t_end: float) -> dict[str, float]:
         """Advance to ``t_end`` with the scene's own ship motion; return the outputs there.
@@ -398,7 +442,7 @@ class Simulation:
         if not (math.isfinite(dt) and dt > 0.0):
             raise SceneError("dt", dt, "a finite step > 0 s")
         ship = np.asarray(ship, dtype=float)
-        self._check_ship(ship)
+        check_ship_state(ship)
         if setpoint is not None:
             if not all(math.isfinite(float(x)) for x in setpoint):
                 raise SceneError("setpoint", tuple(setpoint), "finite phi_sp [rad] and phi_sp_rate [rad/s]")
@@ -552,6 +596,7 @@ class Simulation:
                            for name in genalpha.IntegratorState._fields},
                 "setpoint": list(self._setpoint), "initialized": self._initialized,
                 "turbulence_t0": None if self.turbulence is None else self.turbulence.t0,
+                "viv": None if self.viv is None else self.viv.get_state(),
                 "n_coordinates": int(self.state.q.size)}
 
     def set_state(self, data: Mapping[str, Any]) -> None:
@@ -573,6 +618,8 @@ class Simulation:
             self._start_turbulence(float(data["turbulence_t0"]))
         self._cover(float(arrays.clock[0]))
         self._restore((arrays, (float(data["setpoint"][0]), float(data["setpoint"][1]))))
+        if self.viv is not None and data.get("viv") is not None:
+            self.viv.set_state(data["viv"])
         self._initialized = bool(data["initialized"])
 
     # ------------------------------------------------------------------- run
@@ -619,17 +666,17 @@ class Simulation:
             stop = min(n, first + chunk)
             drive = self._drive(np.concatenate([[self.time], samples[first:stop]]))
             self._cover(samples[stop - 1])
-            if loads is None:
+            if loads is None and self.viv is None:
                 reached = first + advance_recording(
                     self.model, self.options, self.state, self.workspace, samples[first:stop], *drive, _PROFILE_XI,
                     self._body_weight, self.scene.winch is not None, self._sheave_position, self._payout_radius,
                     self._phi_nom, index, values[first + 1:stop + 1])
-            else:  # the rigid load's outputs are computed in Python: one sample at a time
+            else:  # the rigid load's outputs, or the wake coupling, in Python: one sample at a time
                 reached = first
-                while reached < stop and genalpha.advance(self.model, self.options, self.state, self.workspace,
-                                                          samples[reached], *drive) == genalpha.OK:
+                while reached < stop and self._integrate(samples[reached], drive) == genalpha.OK:
                     values[reached + 1] = self._output_array()[index]
-                    loads.append(self._load_outputs())
+                    if loads is not None:
+                        loads.append(self._load_outputs())
                     if not np.all(np.isfinite(values[reached + 1])):
                         break
                     reached += 1

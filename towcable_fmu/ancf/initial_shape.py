@@ -205,3 +205,58 @@ def draped(node_arc: np.ndarray, start: np.ndarray, center: np.ndarray, radius: 
     touch[1] = p[1]
     a1 = _leave_angle(u, increasing)
     return _lay(node_arc, [("line", p, touch), ("arc", np.array([c[0], p[1], c[2]]), radius, a0, a1)], u)
+
+
+def over_pulleys(node_arc: np.ndarray, start: np.ndarray, centers: list[np.ndarray], radii: list[float],
+                 departure: np.ndarray) -> np.ndarray:
+    """Cable from ``start`` over a row of pulleys (in order, towards +X), then along ``departure``.
+
+    From ``start`` (on the -X side of the first pulley) the cable runs along the upper
+    tangent to the first circle, over the top of each pulley and along the upper common
+    tangent to the next (circles in the XZ plane at the start's Y), and leaves the last
+    one where its direction equals ``departure``. With one pulley this is :func:`draped`.
+
+    Parameters
+    ----------
+    node_arc
+        Unstretched arc length of each node [m].
+    start
+        First node [m].
+    centers, radii
+        Pulley centres [m] and centreline radii [m] (surface radius plus cable radius),
+        with increasing X and not overlapping.
+    departure
+        Direction of the cable after the last pulley.
+
+    Returns
+    -------
+    ndarray, shape (6 nn,)
+        Nodal positions and unit slopes (frame of the arguments).
+    """
+    p = np.asarray(start, dtype=float)
+    u = np.asarray(departure, dtype=float)
+    u = u / np.linalg.norm(u)
+    cs = [np.array([c[0], p[1], c[2]], dtype=float) for c in centers]
+    w = np.array([p[0] - cs[0][0], p[2] - cs[0][2]])
+    dist = float(np.hypot(*w))
+    if dist <= radii[0]:
+        raise ValueError("the start of a draped cable lies inside the first pulley")
+    a0 = float(np.arctan2(w[0], w[1])) + float(np.arccos(radii[0] / dist))
+    touch = cs[0] + radii[0] * np.array([np.sin(a0), 0.0, np.cos(a0)])
+    pieces: list = [("line", p, touch)]
+    angle = a0
+    for c1, r1, c2, r2 in zip(cs[:-1], radii[:-1], cs[1:], radii[1:]):
+        chord = np.array([c2[0] - c1[0], c2[2] - c1[2]])
+        gap = float(np.hypot(*chord))
+        if gap <= abs(r1 - r2):
+            raise ValueError("two pulleys of the row overlap")
+        d = chord / gap
+        up = np.array([-d[1], d[0]])  # left of the travel towards +X: upwards
+        sin_a = (r1 - r2) / gap
+        n = np.sqrt(1.0 - sin_a**2) * up + sin_a * d
+        tangent = float(np.arctan2(n[0], n[1]))
+        pieces.append(("arc", c1, r1, angle, tangent))
+        pieces.append(("line", c1 + r1 * np.array([n[0], 0.0, n[1]]), c2 + r2 * np.array([n[0], 0.0, n[1]])))
+        angle = tangent
+    pieces.append(("arc", cs[-1], radii[-1], angle, _leave_angle(u, increasing=True)))
+    return _lay(node_arc, pieces, u)

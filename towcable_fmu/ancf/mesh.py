@@ -171,15 +171,17 @@ def build_contact(scene: Scene) -> ContactModel:
     if scene.winch is not None:
         w = scene.winch
         faces.append((WINCH, CYLINDER, w.position, w.radius, 0.0, 1.0, 0.0, 0.0, 0.0, w.contact))
-    if scene.sheave is not None:
-        sh = scene.sheave
+    # the sheave, then each idler as a surface of its own (ids 2, 3, ...: its own reach test;
+    # the outputs summarise the winch and the sheave only)
+    sheaves = [] if scene.sheave is None else [scene.sheave, *scene.idlers]
+    for surface, sh in enumerate(sheaves, start=SHEAVE):
         if sh.shape == "cylinder":
-            faces.append((SHEAVE, CYLINDER, sh.position, sh.radius, 0.0, 1.0, 0.0, 0.0, 0.0, sh.contact))
+            faces.append((surface, CYLINDER, sh.position, sh.radius, 0.0, 1.0, 0.0, 0.0, 0.0, sh.contact))
         else:
             half = np.radians(sh.throat_angle) / 2.0
             opening = sh.groove_depth * np.tan(half)
             for kind in (WALL_PLUS, WALL_MINUS, RIM):
-                faces.append((SHEAVE, kind, sh.position, sh.radius, sh.groove_depth, np.cos(half), np.sin(half),
+                faces.append((surface, kind, sh.position, sh.radius, sh.groove_depth, np.cos(half), np.sin(half),
                               opening, sh.rim_width, sh.contact))
     if not faces:
         return no_contact()
@@ -209,7 +211,7 @@ def build_cable_hydro(scene: Scene, mesh: Mesh, wet: bool) -> CableHydro:
     props = [scene.cable.segments[i] for i in mesh.segment_of_element]
     d = np.array([p.diameter for p in props])
     return CableHydro(
-        el_on=np.full(mesh.n_elements, wet),
+        el_on=np.array([wet and p.fluid_loads for p in props], dtype=bool),
         el_kind=np.array([LOADINGS[p.loading] for p in props], dtype=np.int64),
         el_d=d, el_area=np.pi * d**2 / 4.0,
         el_cd=np.array([p.drag_coefficient or 0.0 for p in props]),

@@ -248,6 +248,8 @@ def surface_summary(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_np
                     lowest: np.ndarray, energy: np.ndarray, dist: np.ndarray) -> int:
     """What touches what: totals and the force distribution, for the outputs.
 
+    Idlers (surfaces beyond SHEAVE) are left out.
+
     Parameters (all outputs, per surface s = WINCH, SHEAVE)
     -------------------------------------------------------
     force
@@ -301,6 +303,8 @@ def surface_summary(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_np
         for kf in range(nfaces):
             f = faces[kf]
             s = c.face_surface[f]
+            if s >= force.shape[0]:  # an idler (surface 2, 3, ...): not summarised
+                continue
             count = _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, pts, xi, wt, g, cross,
                                      fpt)
             for p in range(count):

@@ -46,7 +46,7 @@ class ContactModel(NamedTuple):
     """Contact faces for the kernels (``enabled`` False: nothing to touch)."""
 
     enabled: bool
-    face_surface: np.ndarray  #: (nf,) WINCH or SHEAVE: which surface a face belongs to
+    face_surface: np.ndarray  #: (nf,) WINCH, SHEAVE, or 2 + k for idler k: which surface a face belongs to
     face_kind: np.ndarray     #: (nf,) CYLINDER, WALL_PLUS, WALL_MINUS
     face_center: np.ndarray   #: (nf, 3) centre in the ship body frame [m]
     face_radius: np.ndarray   #: (nf,) drum radius or groove root radius [m]

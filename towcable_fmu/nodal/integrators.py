@@ -28,9 +28,10 @@ from numba import njit
 from ..kinematics import ship_point_kinematics
 from ..numerics.banded import band_lu, band_solve
 from ..numerics.genalpha import evaluate_drive
-from .assembly import KL, KU, iteration_matrix, residual
+from .assembly import bandwidth, cable_residual, expand, iteration_matrix, residual
 from .element import axial_force
 from .model import NodalModel
+from .rigid_body import attitude_ok
 
 GENALPHA = 0
 RK4 = 1
@@ -54,8 +55,8 @@ def prescribe_top(m: NodalModel, drive_t: np.ndarray, drive_x: np.ndarray, t: fl
 
 
 @njit(cache=True)
-def _factor(ab: np.ndarray, ipiv: np.ndarray) -> bool:
-    return band_lu(ab, ab.shape[1], KL, KU, ipiv) == 0
+def _factor(ab: np.ndarray, kl: int, ipiv: np.ndarray) -> bool:
+    return band_lu(ab, ab.shape[1], kl, kl, ipiv) == 0
 
 
 @njit(cache=True)
@@ -86,8 +87,9 @@ def genalpha_step(m: NodalModel, h: float, coef: np.ndarray, tol: float, max_ite
     v1[:] = v + h * ((1.0 - gamma) * acc + gamma * a1)
     prescribe_top(m, drive_t, drive_x, t + h, q1, v1, x1)
     n = q.size
+    kl = bandwidth(m)
     r = np.empty(n)
-    ab = np.empty((2 * KL + KU + 1, n - 3))
+    ab = np.empty((3 * kl + 1, n - 3))
     ipiv = np.empty(n - 3, dtype=np.int64)
     work = np.empty((4, n))
     scale = tol * m.L0.min()
@@ -98,10 +100,10 @@ def genalpha_step(m: NodalModel, h: float, coef: np.ndarray, tol: float, max_ite
             if it == 0 or attempt == 1:
                 stats[3] += iteration_matrix(m, q1, v1, x1, t + h, 1.0, cv, cq, 1e-7 * m.L0.min() / cq, r, ab, work)
                 stats[2] += 1
-                if not _factor(ab, ipiv):
+                if not _factor(ab, kl, ipiv):
                     return False
             d = -r[3:]
-            band_solve(ab, n - 3, KL, KU, ipiv, d)
+            band_solve(ab, n - 3, kl, kl, ipiv, d)
             stats[1] += 1
             if not np.all(np.isfinite(d)):
                 return False
@@ -110,7 +112,7 @@ def genalpha_step(m: NodalModel, h: float, coef: np.ndarray, tol: float, max_ite
             q1[3:] += cq * d
             v1[3:] += cv * d
             if cq * np.abs(d).max() < scale:
-                return True
+                return not m.rigid.enabled or attitude_ok(q1[n - 6:])
     return False
 
 
@@ -122,14 +124,17 @@ def accelerations(m: NodalModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t:
     a[3:] = 0.0
     r = np.empty(n)
     residual(m, q, v, a, t, r)
-    ab = np.empty((2 * KL + KU + 1, n - 3))
+    kl = bandwidth(m)
+    ab = np.empty((3 * kl + 1, n - 3))
     ipiv = np.empty(n - 3, dtype=np.int64)
     work = np.empty((4, n))
     stats[3] += 1 + iteration_matrix(m, q, v, a, t, 1.0, 0.0, 0.0, 1.0, r, ab, work)
-    if not _factor(ab, ipiv):
+    if m.rigid.enabled and not attitude_ok(q[n - 6:]):
+        return False
+    if not _factor(ab, kl, ipiv):
         return False
     d = -r[3:]
-    band_solve(ab, n - 3, KL, KU, ipiv, d)
+    band_solve(ab, n - 3, kl, kl, ipiv, d)
     a[3:] = d
     return bool(np.all(np.isfinite(d)))
 
@@ -168,21 +173,32 @@ def rk4_step(m: NodalModel, h: float, t: float, drive_t: np.ndarray, drive_x: np
 def output_values(m: NodalModel, q: np.ndarray, v: np.ndarray, x: np.ndarray, t: float, out: np.ndarray) -> None:
     """Outputs at one instant into ``out`` (see :data:`.simulation.OUTPUT_NAMES`): the top
     reaction's magnitude [N] and angle from the vertical [rad], the largest and smallest
-    element axial force [N], the last node's (towed body's) position [m] and velocity [m/s]."""
+    element axial force [N], the last node's (towed body's) position [m] and velocity [m/s];
+    with a rigid body its CG's position and velocity, then the force of the cable on the
+    body [N] and the body's roll, pitch and yaw [rad] (:data:`.simulation.RIGID_NAMES`)."""
     r = np.empty(q.size)
     residual(m, q, v, x, t, r)
     out[0] = math.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
     out[1] = math.acos(min(max(abs(r[2]) / max(out[0], 1e-300), 0.0), 1.0))
+    nq = 3 * m.n_nodes
+    qn, vn, an = np.empty(nq), np.empty(nq), np.empty(nq)
+    expand(m, q, v, x, qn, vn, an)
     hi, lo = -np.inf, np.inf
     for e in range(m.n_nodes - 1):
-        n = axial_force(m, e, q, v)[0]
+        n = axial_force(m, e, qn, vn)[0]
         hi = max(hi, n)
         lo = min(lo, n)
     out[2], out[3] = hi, lo
-    i = q.size - 3
+    i = nq - 3
     for k in range(3):
         out[4 + k] = q[i + k]
         out[7 + k] = v[i + k]
+    if m.rigid.enabled:
+        rn = np.empty(nq)
+        cable_residual(m, qn, vn, an, t, rn)
+        out[10] = math.sqrt(rn[i] ** 2 + rn[i + 1] ** 2 + rn[i + 2] ** 2)
+        for k in range(3):
+            out[11 + k] = q[i + 3 + k]
 
 
 @njit(cache=True)

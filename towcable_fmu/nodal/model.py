@@ -2,7 +2,10 @@
 
 Nodes run from the top (node 0, prescribed by the ship motion) to the bottom (the last
 node, free, carrying the lumped towed body). Coordinates are the nodal positions
-``X = (X_0, Y_0, Z_0, X_1, ...)`` [m], three per node.
+``X = (X_0, Y_0, Z_0, X_1, ...)`` [m], three per node. With a rigid towed body
+(:mod:`.rigid_body`) the last node is the body's tow point, eliminated: the
+coordinates are those of nodes 0 .. n_nodes - 2, then the body's CG [m] and Euler
+angles [rad] (:func:`n_coordinates`).
 """
 
 from __future__ import annotations
@@ -14,9 +17,10 @@ import numpy as np
 from ..ancf.mesh import build_body, build_water
 from ..errors import SceneError
 from ..hydro.loading import LOADINGS
-from ..hydro.towbody import BodyHydro
+from ..hydro.towbody import BodyHydro, no_body
 from ..hydro.water import WaterModel
 from ..scene.model import Scene
+from .rigid_body import NDOF, RigidBodyModel, build_rigid_body
 
 
 class NodalModel(NamedTuple):
@@ -40,6 +44,13 @@ class NodalModel(NamedTuple):
     end_mass: float         #: lumped mass at the last node (towed body or bottom mass) [kg]
     top_point: np.ndarray   #: (3,) attachment of node 0 (ship frame or inertial) [m]
     top_on_ship: bool       #: True: top_point moves with the ship
+    rigid: RigidBodyModel   #: rigid towed body at the last node (``enabled`` False: none)
+
+
+def n_coordinates(m: NodalModel) -> int:
+    """Length of the coordinate vector: 3 per node, or with a rigid body 3 per node but
+    the last, plus the body's 6."""
+    return 3 * m.n_nodes + (NDOF - 3 if m.rigid.enabled else 0)
 
 
 def check_scene(scene: Scene) -> None:
@@ -78,12 +89,15 @@ def build_nodal_model(scene: Scene) -> NodalModel:
     d = col("diameter")
     ne = len(segs)
     top = scene.cable.top
-    end_mass = scene.cable.bottom.mass + (scene.towbody.mass if scene.towbody is not None else 0.0)
+    rigid = build_rigid_body(scene)
+    lumped = scene.towbody is not None and not rigid.enabled
+    end_mass = scene.cable.bottom.mass + (scene.towbody.mass if lumped else 0.0)
     return NodalModel(
         n_nodes=ne + 1, L0=np.array([s.length / s.elements for s in segs]), EA=col("EA"),
         BA=col("damping"), tension_only=np.array([not s.compression for s in segs]),
         mu=col("mass_per_length"), kind=np.array([LOADINGS[s.loading] for s in segs], dtype=np.int64),
         d=d, area=np.pi * d**2 / 4.0, cd=np.array([s.drag_coefficient or 0.0 for s in segs]),
         g_amp=col("drag_amplification"), cm=col("added_mass_coefficient"),
-        gravity=scene.environment.gravity, water=build_water(scene), body=build_body(scene, 3 * ne),
-        end_mass=end_mass, top_point=np.array(top.position, dtype=float), top_on_ship=top.frame == "ship")
+        gravity=scene.environment.gravity, water=build_water(scene),
+        body=build_body(scene, 3 * ne) if lumped else no_body(), end_mass=end_mass,
+        top_point=np.array(top.position, dtype=float), top_on_ship=top.frame == "ship", rigid=rigid)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 import time
-from typing import Callable
+from typing import Any, Callable, Mapping
 
 import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK45, Radau
@@ -110,8 +110,19 @@ class RigidLinkSimulation:
                 "cable.taut": float(taut), "tug.thrust": thrust}
 
     # -------------------------------------------------------------- public interface
-    def initialize(self, statics: bool | None = None) -> dict[str, float]:
-        """Outputs at the start (the parabola at rest), or with ``statics`` the equilibrium.
+    @property
+    def n_elements(self) -> int:
+        """Number of rigid links."""
+        return int(self.l.size)
+
+    def initialize(self, t0: float = 0.0, ship: np.ndarray | None = None, setpoint: tuple[float, float] | None = None,
+                   statics: bool | None = None) -> dict[str, float]:
+        """Outputs at the start time ``t0`` [s] (the parabola at rest), or with ``statics``
+        the equilibrium.
+
+        ``ship`` and ``setpoint`` are accepted for the interface of
+        :class:`towcable_fmu.simulation.Simulation` and not used: the tug is driven by the
+        scene's thrust ramp and heave references, not by a prescribed ship motion.
 
         With ``statics=True`` the cable's equilibrium between the two fairleads held at
         their initial positions is solved (:mod:`.statics`) and reported as
@@ -119,6 +130,9 @@ class RigidLinkSimulation:
         the cable at the tug and the downward vertical]; the run itself starts from the
         reference's parabola at rest.
         """
+        if not math.isfinite(t0):
+            raise SceneError("t0", t0, "a finite start time [s]")
+        self.time = float(t0)
         if not statics:
             return self.outputs(self.time, self.y)
         start = time.perf_counter()
@@ -178,6 +192,57 @@ class RigidLinkSimulation:
         if progress is not None:
             progress(self.time, samples[-1])
         return {name: np.array([row[name] for row in rows]) for name in SERIES}
+
+    def step(self, dt: float, ship: np.ndarray | None = None,
+             setpoint: tuple[float, float] | None = None) -> dict[str, float]:
+        """Advance by ``dt`` [s] (FMU style) and return the outputs at the new time.
+
+        Each call starts the scene's ODE solver afresh from the current state, so a state
+        restored with :meth:`set_state` continues exactly as the original run did.
+        ``ship`` and ``setpoint`` are not used (see :meth:`initialize`).
+
+        Raises
+        ------
+        SceneError
+            If ``dt`` is not a finite step > 0; nothing is changed.
+        SolverError
+            If the ODE solver fails; the state is then left as it was.
+        """
+        if not (math.isfinite(dt) and dt > 0.0):
+            raise SceneError("dt", dt, "a finite step > 0 s")
+        opts = self.scene.solver
+        t_end = self.time + dt
+        solver = _METHODS[opts.method](self._rhs, self.time, self.y, t_end, rtol=opts.rtol, atol=opts.atol,
+                                       max_step=opts.max_step)
+        while solver.status == "running":
+            message = solver.step()
+            if solver.status == "failed":
+                raise SolverError(f"{opts.method} failed near t = {solver.t:.6g} s: {message}")
+            self._stats["solver.steps"] += 1
+        if not np.all(np.isfinite(solver.y)):
+            raise SolverError(f"{opts.method} produced non-finite values at t = {t_end:.6g} s")
+        self._stats["solver.rhs_evaluations"] += int(solver.nfev)
+        self._stats["solver.jacobians"] += int(solver.njev)
+        self.time, self.y = float(t_end), solver.y.copy()
+        return self.outputs(self.time, self.y)
+
+    def get_state(self) -> dict[str, Any]:
+        """The state (time [s], angles and rates) and counters as JSON-able data."""
+        return {"time": self.time, "y": self.y.tolist(), "stats": dict(self._stats), "n_links": int(self.l.size)}
+
+    def set_state(self, data: Mapping[str, Any]) -> None:
+        """Restore a state from :meth:`get_state`.
+
+        Raises
+        ------
+        SceneError
+            If the data belongs to a model with another number of links.
+        """
+        if int(data.get("n_links", -1)) != self.l.size:
+            raise SceneError("state.n_links", data.get("n_links"), f"{self.l.size} (the state belongs to another model)")
+        self.time = float(data["time"])
+        self.y = np.asarray(data["y"], dtype=float)
+        self._stats = dict(data["stats"])
 
     def statistics(self) -> dict[str, float]:
         """Solver counters since construction, plus the statics result if solved."""

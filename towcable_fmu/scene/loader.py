@@ -86,7 +86,6 @@ def apply_overrides(table: dict, overrides: Mapping[str, Any] | Iterable[tuple[s
             last = depth == len(parts) - 1
             m = _INDEX.match(part)
             name, index = (m["name"], int(m["index"])) if m else (part, None)
-            where = ".".join(parts[: depth + 1])
             if not isinstance(node, dict):
                 raise SceneError(key, value, f"a key inside a table ('{'.'.join(parts[:depth])}' is not a table)")
             if index is None:
@@ -98,7 +97,8 @@ def apply_overrides(table: dict, overrides: Mapping[str, Any] | Iterable[tuple[s
                 seq = node.get(name)
                 if not isinstance(seq, list) or index >= len(seq):
                     size = len(seq) if isinstance(seq, list) else 0
-                    raise SceneError(where, value, f"an index below {size} (the scene has {size} entries)")
+                    raise SceneError(f"{key} (index {index} of '{'.'.join(parts[:depth] + [name])}')", value,
+                                     f"an index below {size} (the scene has {size} entries)")
                 if last:
                     seq[index] = value
                 else:

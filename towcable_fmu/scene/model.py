@@ -10,6 +10,8 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numpy as np
+
 from ..errors import SceneError
 from .schema import spec
 
@@ -47,6 +49,9 @@ class Segment:
                                          "(1: no amplification; DESIGN.md)")
     added_mass_coefficient: float = spec(1.0, unit="-", ge=0.0, le=10.0,
                                          doc="C_m: added mass acts normal to the cable only, W(66)-(75)")
+    fluid_loads: bool = spec(True, doc="false: the segment carries no fluid loads at all (drag, buoyancy, added "
+                                       "mass), e.g. the parts of a wire in the lee of a structure (appendix A: "
+                                       "wind on the span between the sheaves only)")
     name: str = spec("", doc="label used in plots and messages")
 
 
@@ -178,6 +183,38 @@ class Sheave:
 
 
 @dataclasses.dataclass(frozen=True)
+class Viv:
+    """Vortex-induced vibration: a wake oscillator per node of the loaded segments
+    (Westin 2018 appendix A, eqs. A19-A20, after Bai and Qin and Facchinetti), coupled to
+    the cable's cross-flow velocity; see :mod:`towcable_fmu.viv`. The flow is the scene's
+    uniform current (the fluid of ``[water]``, air for a wind load)."""
+
+    segments: tuple[int, ...] = spec(unit="-", ge=0, doc="indices (0-based, from the top) of the segments whose "
+                                                         "nodes carry wake oscillators and whose elements feel A20")
+    enabled: bool = spec(True, doc="false: the table is kept but no wake oscillators run")
+    cross_flow: tuple[float, ...] = spec([0.0, 0.0, 1.0], unit="-", length=3,
+                                         doc="cross-flow direction (its part normal to the flow is used): the "
+                                             "lift A20b acts along it and its velocity drives A19")
+    a1: float = spec(0.3, unit="-", gt=0.0, le=10.0, doc="wake damping parameter a_1 of A19")
+    a2: float = spec(0.2, unit="-", gt=0.0, le=10.0, doc="wake nonlinearity a_2 of A19 (limit cycle "
+                                                         "amplitude 2/sqrt(3 a_2))")
+    a3: float = spec(12.0, unit="-", ge=0.0, le=1000.0, doc="coupling a_3 of A19 (0: the wake ignores the cable)")
+    strouhal: float = spec(0.2, unit="-", gt=0.0, lt=1.0, doc="Strouhal number St: omega_st = 2 pi St U / d, A25")
+    cd0: float = spec(0.2, unit="-", ge=0.0, le=10.0, doc="oscillating drag coefficient C_D0 of A20a")
+    cl0: float = spec(0.3, unit="-", ge=0.0, le=10.0, doc="oscillating lift coefficient C_L0 of A20b")
+    initial_w: float = spec(0.1, unit="-", doc="wake variable w at the start (w' = 0), the same at every node")
+
+    def validate(self, key: str) -> None:
+        """Cross-field checks."""
+        if not self.segments:
+            raise SceneError(f"{key}.segments", [], "at least one segment index")
+        if len(set(self.segments)) != len(self.segments):
+            raise SceneError(f"{key}.segments", list(self.segments), "distinct segment indices")
+        if math.hypot(*self.cross_flow) == 0.0:
+            raise SceneError(f"{key}.cross_flow", list(self.cross_flow), "a non-zero direction")
+
+
+@dataclasses.dataclass(frozen=True)
 class Current:
     """Mean flow of the water."""
 
@@ -253,8 +290,60 @@ class Lift:
 
 
 @dataclasses.dataclass(frozen=True)
+class RigidBody:
+    """Rigid-body data of a towed body with ``model = "rigid"`` (6 degrees of freedom;
+    towcable_fmu/nodal/rigid_body.py). Body axes: x forward, y port, z up, origin at the
+    centre of gravity (CG); attitude R = Rz(yaw) Ry(pitch) Rx(roll). The body's mass,
+    volume, drag parts and added-mass coefficients are the keys of [towbody], read in
+    body axes."""
+
+    inertia: tuple[float, ...] = spec(unit="kg m^2", length=3, gt=0.0,
+                                      doc="moments of inertia J_xx, J_yy, J_zz about the CG (body axes)")
+    tow_point: tuple[float, ...] = spec(unit="m", length=3,
+                                        doc="cable attachment (a spherical joint: the cable's last node) "
+                                            "relative to the CG (body axes)")
+    inertia_products: tuple[float, ...] = spec([0.0, 0.0, 0.0], unit="kg m^2", length=3,
+                                               doc="off-diagonal entries J_xy, J_xz, J_yz of the inertia tensor "
+                                                   "about the CG (J_xy = -integral of x y dm); the tensor must "
+                                                   "be positive definite")
+    buoyancy_centre: tuple[float, ...] = spec([0.0, 0.0, 0.0], unit="m", length=3,
+                                              doc="centre of buoyancy relative to the CG (body axes)")
+    drag_centre: tuple[float, ...] = spec([0.0, 0.0, 0.0], unit="m", length=3,
+                                          doc="point where the drag of the parts acts and the relative flow is "
+                                              "taken (centre of pressure), relative to the CG (body axes)")
+    linear_damping: tuple[float, ...] = spec([0.0, 0.0, 0.0], unit="N s/m", length=3, ge=0.0,
+                                             doc="linear damping per body axis, force -c u of the flow velocity "
+                                                 "relative to the body u, at the drag centre (in water)")
+    added_inertia: tuple[float, ...] = spec([0.0, 0.0, 0.0], unit="kg m^2", length=3, ge=0.0,
+                                            doc="rotational added inertia per body axis (in water)")
+    rotational_drag: tuple[float, ...] = spec([0.0, 0.0, 0.0], unit="N m s^2", length=3, ge=0.0,
+                                              doc="quadratic rotational drag per body axis: moment -k |w| w of "
+                                                  "the angular velocity w (in water)")
+    rotational_damping: tuple[float, ...] = spec([0.0, 0.0, 0.0], unit="N m s", length=3, ge=0.0,
+                                                 doc="linear rotational damping per body axis: moment -c w "
+                                                     "(in water)")
+    attitude: tuple[float, ...] = spec([0.0, 0.0, 0.0], unit="rad", length=3,
+                                       doc="initial roll, pitch, yaw; the Euler angles are the body's rotation "
+                                           "coordinates, so the pitch must stay away from +-pi/2 (checked)")
+
+    def validate(self, key: str) -> None:
+        """Cross-field checks."""
+        jxx, jyy, jzz = self.inertia
+        jxy, jxz, jyz = self.inertia_products
+        minors = (jxx, jxx * jyy - jxy * jxy,
+                  jxx * (jyy * jzz - jyz * jyz) - jxy * (jxy * jzz - jyz * jxz) + jxz * (jxy * jyz - jyy * jxz))
+        if not all(m > 0.0 for m in minors):
+            raise SceneError(f"{key}.inertia_products", list(self.inertia_products),
+                             "products that leave the inertia tensor positive definite")
+        if not abs(self.attitude[1]) < 1.4:
+            raise SceneError(f"{key}.attitude[1]", self.attitude[1], "a pitch with |pitch| < 1.4 rad (Euler angles "
+                                                                     "are singular at +-pi/2)")
+
+
+@dataclasses.dataclass(frozen=True)
 class TowBody:
-    """A lumped towed body at the bottom end of the cable, W(85)-(92)."""
+    """A towed body at the bottom end of the cable: lumped, W(85)-(92) (default), or a
+    rigid 6-DOF body (``model = "rigid"``, nodal-position cable)."""
 
     mass: float = spec(unit="kg", gt=0.0, doc="mass m_b")
     volume: float | None = spec(None, unit="m^3", ge=0.0, doc="displaced volume V (or give 'net_weight')")
@@ -262,15 +351,26 @@ class TowBody:
                                     doc="weight minus buoyancy in water; sets the volume to "
                                         "(m_b g - net_weight) / (rho_f g)")
     added_mass_coefficient: tuple[float, ...] = spec([0.0, 0.0, 0.0], unit="-", length=3, ge=0.0,
-                                                     doc="C_m,b per axis: added mass rho_f V C_m,b, W(89)")
-    parts: tuple[BodyPart, ...] = spec([], doc="drag parts; the drag per axis is the sum of their C_D A, W(87)")
-    lift: Lift | None = spec(None, doc="constant-direction lift")
+                                                     doc="C_m,b per axis (inertial axes; body axes for a rigid "
+                                                         "body): added mass rho_f V C_m,b, W(89)")
+    parts: tuple[BodyPart, ...] = spec([], doc="drag parts; the drag per axis (inertial axes; body axes for a "
+                                               "rigid body) is the sum of their C_D A, W(87)")
+    lift: Lift | None = spec(None, doc="constant-direction lift (lumped body only)")
     name: str = spec("towbody", doc="label")
+    model: str = spec("lumped", choices=("lumped", "rigid"),
+                      doc="lumped: a point mass at the last node, W(85)-(92); rigid: a 6-DOF rigid body hanging "
+                          "from its tow point ([towbody.rigid]; cable.formulation = 'nodal_position')")
+    rigid: RigidBody | None = spec(None, doc="rigid-body data (required exactly when model = 'rigid')")
 
     def validate(self, key: str) -> None:
         """Cross-field checks."""
         if self.volume is not None and self.net_weight is not None:
             raise SceneError(f"{key}.net_weight", self.net_weight, "absent when 'volume' is given")
+        if (self.model == "rigid") != (self.rigid is not None):
+            raise SceneError(f"{key}.rigid", "[towbody.rigid]" if self.rigid is not None else None,
+                             "a table exactly when model = 'rigid'")
+        if self.model == "rigid" and self.lift is not None:
+            raise SceneError(f"{key}.lift", "[towbody.lift]", "absent with model = 'rigid' (not modelled)")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -342,11 +442,15 @@ class Scene:
     water: Water | None = spec(None, doc="water (absent: the scene is in air, no hydrodynamics)")
     winch: Winch | None = spec(None, doc="winch drum and drive (the cable's top end is on it: type 'winch')")
     sheave: Sheave | None = spec(None, doc="sheave or pulley the cable runs over")
+    idlers: tuple[Sheave, ...] = spec([], doc="further sheaves or pulleys (fixed in the ship frame, axis along the "
+                                              "ship's Y) the cable runs over after [sheave], in order: contact "
+                                              "only, the sheave outputs report [sheave]")
     compensation: dict | None = spec(None, doc="heave-compensation set-point algorithm for runs driven by the "
                                                "scene's own motion (see controllers/README.md); winch radius, "
                                                "phi_nom and the sheave position default to the scene's")
     towbody: TowBody | None = spec(None, doc="lumped towed body at the bottom end (bottom must be free)")
     load: RigidLoad | None = spec(None, doc="rigid load swinging from the bottom end (bottom must be free)")
+    viv: Viv | None = spec(None, doc="vortex-induced vibration by wake oscillators (absent: none)")
     motion: dict | None = spec(None, doc="ship motion (see ship_motion/README.md); none: the ship is still")
     solver: SolverSettings = spec(SolverSettings(), doc="time integration")
     statics: StaticsSettings = spec(StaticsSettings(), doc="equilibrium solver")
@@ -373,6 +477,9 @@ class Scene:
         if self.towbody is not None and self.cable.bottom.type != "free":
             raise SceneError("cable.bottom.type", self.cable.bottom.type, "'free' when a [towbody] is attached")
         body = self.towbody
+        if body is not None and body.model == "rigid" and self.cable.formulation != "nodal_position":
+            raise SceneError("towbody.model", "rigid", "'lumped' unless cable.formulation = 'nodal_position' "
+                                                       "(the rigid body is not implemented for the ANCF cable)")
         if body is not None and self.water is None and (body.parts or body.lift or body.net_weight is not None):
             raise SceneError("towbody", body.name, "no hydrodynamic properties (parts, lift, net_weight) "
                                                    "without a [water] section")
@@ -382,6 +489,37 @@ class Scene:
             weight = body.mass * self.environment.gravity
             if not 0.0 <= weight - body.net_weight:
                 raise SceneError("towbody.net_weight", body.net_weight, f"<= the weight m_b g = {weight:g} N")
+        if self.idlers and self.sheave is None:
+            raise SceneError("idlers", f"{len(self.idlers)} entries", "none without a [sheave]")
+        if self.viv is not None:
+            self._validate_viv()
+
+    def _validate_viv(self) -> None:
+        """The wake oscillators need a uniform flow across the loaded segments."""
+        viv = self.viv
+        n = len(self.cable.segments)
+        for i, s in enumerate(viv.segments):
+            if s >= n:
+                raise SceneError(f"viv.segments[{i}]", s, f"an index below {n} (the number of cable segments)")
+        if self.cable.formulation != "ancf":
+            raise SceneError("viv", "[viv]", "absent unless cable.formulation = 'ancf'")
+        diameters = {self.cable.segments[s].diameter for s in viv.segments}
+        if len(diameters) > 1:
+            raise SceneError("viv.segments", list(viv.segments), "segments of one diameter (one Strouhal "
+                                                                 "frequency for all wake oscillators)")
+        if not viv.enabled:
+            return
+        water = self.water
+        if water is None or water.current.type != "uniform" or math.hypot(*water.current.velocity) == 0.0:
+            raise SceneError("water.current", None if water is None else water.current.type,
+                             "a uniform current of non-zero velocity when [viv] is enabled (the free stream U)")
+        u = np.asarray(water.current.velocity, dtype=float)
+        u /= np.linalg.norm(u)
+        c = np.asarray(viv.cross_flow, dtype=float)
+        c /= np.linalg.norm(c)
+        if abs(float(u @ c)) > 0.99:
+            raise SceneError("viv.cross_flow", list(viv.cross_flow),
+                             "a direction not along the current (angle to it > 8 deg)")
 
     @property
     def free_floating(self) -> bool:

@@ -42,6 +42,12 @@ class CaseResult:
         ``host:pid`` of the process that ran it.
     series
         The recorded series when the case asked for them, else None.
+    cpu_time
+        CPU time of the worker process during the case (all its threads) [s]; NaN when
+        the case was lost with its worker.
+    started
+        Wall-clock time at which the case started (``time.time()`` of the worker) [s
+        since the epoch]; NaN when lost.
     """
 
     case_id: str
@@ -51,6 +57,8 @@ class CaseResult:
     wall_time: float
     worker: str
     series: dict[str, np.ndarray] | None = None
+    cpu_time: float = math.nan
+    started: float = math.nan
 
 
 def simulate(case: Case, fmus: Mapping[str, Path] | None = None) -> dict[str, np.ndarray]:
@@ -93,7 +101,9 @@ def run_case(case: Case, fmus: Mapping[str, Path] | None = None) -> CaseResult:
         Status ``"ok"`` with the statistics, or ``"failed"`` with the error message.
     """
     worker = f"{socket.gethostname()}:{os.getpid()}"
+    started = time.time()
     start = time.perf_counter()
+    cpu = time.process_time()
     try:
         series = simulate(case, fmus)
         stats = compute_statistics(series, case.statistics, case.settings.settle, case.settings.fraction)
@@ -102,9 +112,9 @@ def run_case(case: Case, fmus: Mapping[str, Path] | None = None) -> CaseResult:
         if not _is_expected(exc):
             message += " | " + traceback.format_exc(limit=3).replace("\n", " ")
         return CaseResult(case.case_id, "failed", message, {n: math.nan for n in case.statistics},
-                          time.perf_counter() - start, worker)
+                          time.perf_counter() - start, worker, cpu_time=time.process_time() - cpu, started=started)
     return CaseResult(case.case_id, "ok", "", stats, time.perf_counter() - start, worker,
-                      series if case.keep_series else None)
+                      series if case.keep_series else None, cpu_time=time.process_time() - cpu, started=started)
 
 
 def _is_expected(exc: Exception) -> bool:
@@ -113,3 +123,38 @@ def _is_expected(exc: Exception) -> bool:
 
     return isinstance(exc, TowcableError)
 
+
+
+def warm_up(case: Case) -> float:
+    """Load (or compile) the kernels a case needs, in this process, before timing cases.
+
+    Runs the case's scene for one recording interval (scene mode; in cosim mode only the
+    modules are imported). Any error is ignored: the case itself will report it.
+
+    Parameters
+    ----------
+    case
+        A case of the sweep (its scene and overrides choose the kernels).
+
+    Returns
+    -------
+    float
+        Wall time spent [s].
+    """
+    start = time.perf_counter()
+    try:
+        if case.settings.mode == "scene":
+            from ..simulation import Simulation
+
+            for overrides in (case.overrides, ()):
+                try:
+                    Simulation.from_scene(case.settings.scene, overrides).run(case.settings.interval,
+                                                                              interval=case.settings.interval)
+                    break
+                except Exception:  # noqa: BLE001 - an invalid case: warm up with the base scene
+                    continue
+        else:
+            from .. import cosim  # noqa: F401
+    except Exception:  # noqa: BLE001 - warming up is optional
+        pass
+    return time.perf_counter() - start

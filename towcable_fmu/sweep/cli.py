@@ -25,9 +25,9 @@ def cmd_sweep_plot(args: argparse.Namespace) -> int:
     """Heat map and/or exceedance curves from a sweep's results."""
     from .plots import plot_exceedance, plot_heatmap
 
-    table = Path(args.results)
-    if table.is_dir():
-        table = table / "results.csv"
+    from .store import find_table
+
+    table = find_table(Path(args.results))
     written = []
     if args.heatmap:
         statistic, x, y = args.heatmap
@@ -53,9 +53,10 @@ def _count(text: str) -> int:
 
 def add_parsers(sub: argparse._SubParsersAction) -> None:
     """Register ``sweep`` and ``sweep-plot`` on the ``towcable`` parser."""
-    p = sub.add_parser("sweep", help="run a parameter sweep (local processes or a Dask cluster) into one CSV",
+    p = sub.add_parser("sweep", help="run a parameter sweep (local processes or a Dask cluster) into one table (CSV or Parquet)",
                        description="Runs every combination of the [parameters] of the sweep file that its "
-                                   "results.csv does not have yet (case id = hash of the full parameter set), "
+                                   "results table ([sweep] table: results.csv, or a .parquet file) does not "
+                                   "have yet (case id = hash of the full parameter set), "
                                    "on local processes or, with --scheduler, on a Dask distributed cluster; "
                                    "one row per case, appended as cases finish; failed cases are recorded "
                                    "with their error; the sweep goes on.")
@@ -69,8 +70,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_sweep)
 
     p = sub.add_parser("sweep-plot", help="heat map of a statistic over two parameters, tension exceedance curves",
-                       description="Plots from a sweep's results.csv; PNG files go next to it (or to --output).")
-    p.add_argument("results", help="results.csv of a sweep, or its folder")
+                       description="Plots from a sweep's results table (CSV or Parquet); PNG files go next to it "
+                                   "(or to --output).")
+    p.add_argument("results", help="results table of a sweep (.csv or .parquet), or its folder")
     p.add_argument("--heatmap", nargs=3, metavar=("STATISTIC", "X", "Y"),
                    help="statistic (e.g. tension.sheave.max) over swept parameters X and Y (mean over the others)")
     p.add_argument("--exceedance", nargs="?", const="tension.sheave", default=None, metavar="SIGNAL",

@@ -135,7 +135,7 @@ def plot_exceedance(table: Path, path: Path, signal: str = "tension.sheave", lab
     Parameters
     ----------
     table
-        The results CSV; the series are read from ``series/<case_id>.csv`` next to it
+        The results table (CSV or Parquet); the series are read from ``series/<case_id>.csv`` next to it
         (a sweep with ``series = true``).
     path
         PNG to write.

@@ -9,6 +9,7 @@ A sweep file has three tables::
     settle = 20.0             # start-up time left out of the statistics [s]
     interval = 0.05           # recording interval [s]
     output = "out/sweep"      # results folder (relative to the current directory)
+    table = "results.csv"     # results table in that folder: .csv, or .parquet (needs pyarrow)
     series = false            # also write each case's time series (series/<case_id>.csv)
     statistics = ["tension.sheave.max", ...]   # default: all of STATISTICS
 
@@ -54,7 +55,9 @@ ALIASES: dict[str, tuple[str, ...]] = {
 
 MODES = ("scene", "cosim")
 SWEEP_KEYS = {"mode", "scene", "duration", "settle", "interval", "step", "output", "series", "statistics",
-              "fraction", "fmu_dir"}
+              "fraction", "fmu_dir", "table"}
+#: Suffixes of the results table: CSV, or Parquet (needs pyarrow).
+TABLE_SUFFIXES = (".csv", ".parquet")
 TOP_KEYS = {"sweep", "fixed", "parameters"}
 
 
@@ -145,6 +148,9 @@ class SweepSpec:
         Write per-case time series.
     source
         The sweep file.
+    table
+        File name of the results table in ``output``; its suffix chooses the format:
+        ``.csv`` or ``.parquet``.
     """
 
     settings: RunSettings
@@ -154,6 +160,7 @@ class SweepSpec:
     output: Path
     series: bool
     source: Path | None = None
+    table: str = "results.csv"
 
     def cases(self) -> list[Case]:
         """Every combination of the swept values (the first parameter varies slowest)."""
@@ -258,6 +265,11 @@ def spec_from_table(doc: Mapping[str, Any], base_dir: Path = Path("."), source: 
     output = sweep.get("output", "out/sweep")
     if not isinstance(output, str) or not output:
         raise SpecError("sweep.output", output, "a folder name")
+    table_name = sweep.get("table", "results.csv")
+    if (not isinstance(table_name, str) or Path(table_name).name != table_name
+            or Path(table_name).suffix not in TABLE_SUFFIXES or not Path(table_name).stem):
+        raise SpecError("sweep.table", table_name, "a file name ending in " + " or ".join(TABLE_SUFFIXES)
+                        + " (the table's format), without a folder")
     series = sweep.get("series", False)
     if not isinstance(series, bool):
         raise SpecError("sweep.series", series, "true or false")
@@ -286,7 +298,7 @@ def spec_from_table(doc: Mapping[str, Any], base_dir: Path = Path("."), source: 
     settings = RunSettings(mode=mode, scene=scene, duration=duration, settle=settle, interval=interval, step=step,
                            fraction=fraction, fmu_dir=fmu_dir)
     return SweepSpec(settings=settings, fixed=fixed, parameters=parameters, statistics=tuple(stats),
-                     output=Path(output), series=series, source=source)
+                     output=Path(output), series=series, source=source, table=table_name)
 
 
 def _table(doc: Mapping[str, Any], name: str) -> Mapping[str, Any]:

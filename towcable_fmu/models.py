@@ -1,0 +1,39 @@
+"""Which simulation class runs a scene: ANCF cable, nodal-position cable or rigid links.
+
+The command line and the ``TowCable`` FMU both call :func:`simulation_for`, so a scene a
+user can run from the command line runs in the FMU as well.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+
+def model_kind(scene: Any) -> str:
+    """``"rigid_link"``, ``"nodal_position"`` or ``"ancf"``: the model a loaded scene asks for."""
+    if getattr(scene, "model", "ancf") == "rigid_link":
+        return "rigid_link"
+    return scene.cable.formulation
+
+
+def simulation_for(scene: Any):
+    """A new, uninitialised simulation of a loaded scene (see :func:`model_kind`).
+
+    Returns
+    -------
+    Simulation, NodalSimulation or RigidLinkSimulation
+        All three offer ``initialize``, ``step``, ``run``, ``outputs``, ``statistics``,
+        ``get_state`` and ``set_state``.
+    """
+    kind = model_kind(scene)
+    if kind == "rigid_link":
+        from .rigidlink.simulation import RigidLinkSimulation
+
+        return RigidLinkSimulation(scene)
+    if kind == "nodal_position":
+        from .nodal.simulation import NodalSimulation
+
+        return NodalSimulation(scene)
+    from .simulation import Simulation
+
+    return Simulation(scene)
