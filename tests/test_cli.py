@@ -187,3 +187,15 @@ def test_console_script_is_installed():
     proc = subprocess.run([sys.executable, "-m", "towcable_fmu.cli", "scenes"], capture_output=True, text=True,
                           check=True)
     assert "hanging_cable" in proc.stdout
+
+
+def test_static_contact_plot_is_written_for_a_scene_with_a_pulley(tmp_path, capsys):
+    png = tmp_path / "contact.png"
+    assert main(["static", "pulley_static", "--contact-plot", str(png)]) == 0
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 10_000
+
+
+def test_static_contact_plot_refuses_a_scene_without_contact(tmp_path, capsys):
+    png = tmp_path / "contact.png"
+    assert main(["static", "hanging_cable", "--contact-plot", str(png)]) == 2
+    assert "no winch drum or sheave" in capsys.readouterr().err and not png.exists()

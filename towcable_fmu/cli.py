@@ -89,7 +89,26 @@ def cmd_static(args: argparse.Namespace) -> int:
         print(f"statics of '{args.scene}'")
         for k, v in summary.items():
             print(f"  {k:28s} {v:14.6g} {getattr(sim, 'unit_of', contract.unit_of)(k)}")
+    if args.contact_plot:
+        _plot_contact(sim, out, Path(args.contact_plot), args.scene)
     return 0
+
+
+def _plot_contact(sim, out: dict, path: Path, label: str) -> None:
+    """The static contact force distribution of a scene with a winch or a sheave."""
+    from .plots import plot_contact_distribution
+
+    scene = sim.scene
+    if model_kind(scene) != "ancf" or (scene.winch is None and scene.sheave is None):
+        raise TowcableError(f"--contact-plot: '{label}' has no winch drum or sheave (ANCF scenes with contact only)")
+    half_d = 0.5 * scene.cable.segments[0].diameter
+    references = {}
+    for surface, part, key in ((0, scene.winch, "tension.winch"), (1, scene.sheave, "tension.sheave")):
+        if part is not None and key in out:
+            references[surface] = (f"{key} / R_c", out[key] / (part.radius + half_d))
+    plot_contact_distribution(sim.contact_state()["distribution"], path, references,
+                              title=f"{scene.title}: contact in statics")
+    print(f"wrote {path}", file=sys.stderr)
 
 
 def write_csv(path: Path, series: dict) -> None:
@@ -206,6 +225,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("static", help="solve the static equilibrium and print a summary")
     scene_args(p)
     p.add_argument("--json", action="store_true", help="print one flat JSON object keyed by output names")
+    p.add_argument("--contact-plot", default=None, metavar="FILE.png",
+                   help="PNG of the contact force per length against the wrap angle on the drum and the sheave, "
+                        "with tension / radius for comparison")
     p.set_defaults(func=cmd_static)
 
     p = sub.add_parser("run", help="simulate in time and write CSV time series")

@@ -102,3 +102,44 @@ def plot_cosim(series: dict[str, np.ndarray], path: Path, title: str = "") -> No
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def plot_contact_distribution(distribution: np.ndarray, path: Path, references: dict[int, tuple[str, float]],
+                              title: str = "") -> None:
+    """Contact force per unit length against the wrap angle, one panel per surface, as PNG.
+
+    Parameters
+    ----------
+    distribution
+        Rows (surface, angle [rad], force per unit length [N/m]) as given by
+        :meth:`towcable_fmu.simulation.Simulation.contact_state`; surface 0 is the winch
+        drum, 1 the sheave.
+    path
+        PNG file to write.
+    references
+        Surface -> (label, T / R_c [N/m]): the force per unit length of a frictionless
+        wrap, tension over centreline radius, drawn as a dashed line.
+    title
+        Figure title.
+    """
+    names = {0: "winch drum", 1: "sheave"}
+    surfaces = sorted(set(int(s) for s in distribution[:, 0])) or sorted(references)
+    fig, axes = plt.subplots(1, max(1, len(surfaces)), figsize=(6 * max(1, len(surfaces)), 3.6), squeeze=False)
+    for ax, surface in zip(axes[0], surfaces):
+        rows = distribution[distribution[:, 0] == surface]
+        order = np.argsort(rows[:, 1])
+        ax.plot(np.degrees(rows[order, 1]), rows[order, 2], ".-", ms=3, lw=0.8, label="model")
+        if surface in references:
+            label, value = references[surface]
+            ax.axhline(value, ls="--", color="k", lw=0.8, label=label)
+        ax.set_xlabel("angle about the surface axis, from the ship's +Z towards +X [deg]")
+        ax.set_ylabel("contact force per length [N/m]")
+        ax.set_title(names.get(surface, f"surface {surface}"), fontsize=10)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    if title:
+        fig.suptitle(title, fontsize=11)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
