@@ -1,4 +1,5 @@
-"""The rigid 6-DOF towed body on the nodal-position cable (towcable_fmu/nodal/rigid_body.py).
+"""The rigid 6-DOF towed body (towcable_fmu/nodal/rigid_body.py) on the nodal-position
+cable, and on the ANCF cable (towcable_fmu/ancf/system.py, joined by a stiff link).
 
 Each test compares with a closed form or an independent computation:
 
@@ -10,7 +11,10 @@ Each test compares with a closed form or an independent computation:
   plane from the settled cable force; and the force balance;
 * a torque-free symmetric body: precession at the closed-form rate |L| / J_t with the
   angular momentum conserved;
-* RK4 and generalised-alpha agree; the scene keys are validated.
+* RK4 and generalised-alpha agree; the scene keys are validated;
+* with the ANCF cable: the same free-decay period and steady-tow trim, the link
+  stiffness has no visible effect, the ANCF and nodal cables agree on a small scene,
+  and the iteration matrix holds the body's couplings (finite differences).
 """
 
 from __future__ import annotations
@@ -265,18 +269,20 @@ def test_rigid_scene_keys_are_validated():
         scene_from_table(table)
     table = _tow_table()
     table["cable"]["formulation"] = "ancf"
-    with pytest.raises(SceneError, match="towbody.model"):
-        scene_from_table(table)
+    scene_from_table(table)     # the ANCF cable carries the rigid body too (see the ANCF tests below)
     table = _tow_table(tow_point=[0.0, 0.0])
     with pytest.raises(SceneError, match="towbody.rigid.tow_point"):
         scene_from_table(table)
 
 
-def test_sea_trial_rigid_scene_hangs_where_its_moments_balance():
-    """The built-in scene: the hanging statics put the CG where the moments of the
-    (vertical) cable force at the tow point and the buoyancy at the CB cancel, and a
-    short run from there starts the tow."""
-    sim = NodalSimulation(load_scene("sea_trial_turn_rigid"))
+@pytest.mark.parametrize("formulation", ["nodal_position", "ancf"])
+def test_sea_trial_rigid_scene_hangs_where_its_moments_balance(formulation):
+    """The built-in scene (with either cable): the hanging statics put the CG where the
+    moments of the (vertical) cable force at the tow point and the buoyancy at the CB
+    cancel, and a short run from there starts the tow."""
+    from towcable_fmu.models import simulation_for
+
+    sim = simulation_for(load_scene("sea_trial_turn_rigid", {"cable.formulation": formulation}))
     out = sim.initialize()
     rb = sim.scene.towbody.rigid
     body = sim.body_state()
@@ -312,17 +318,21 @@ def test_command_line_static_and_run(tmp_path, capsys):
     assert {"time", "towbody.x", "towbody.pitch", "tension.towbody"} <= set(rows[0]) and len(rows) == 7
 
 
-def test_a_body_towed_backwards_flips_and_the_error_names_the_singularity():
+@pytest.mark.parametrize("formulation", ["nodal_position", "ancf"])
+def test_a_body_towed_backwards_flips_and_the_error_names_the_singularity(formulation):
     """Tow point downstream of the CG (current along the body's +x): the body turns
     round, through pitch -pi/2, where its Euler angles are singular: a clear error."""
     from towcable_fmu.errors import SolverError
+    from towcable_fmu.models import simulation_for
 
     table = _tow_table()
+    if formulation == "ancf":
+        table = _ancf(table)
     table["statics"] = {"enabled": False}
     table["water"]["current"]["velocity"] = [1.5, 0.0, 0.0]
     table["cable"]["initial"]["direction"] = [0.3, 0.0, -1.0]
     with pytest.raises(SolverError, match="singular at"):
-        NodalSimulation(scene_from_table(table)).run(60.0, interval=1.0)
+        simulation_for(scene_from_table(table)).run(60.0, interval=1.0)
 
 
 def test_banded_iteration_matrix_holds_every_coupling():
@@ -362,3 +372,224 @@ def test_banded_iteration_matrix_holds_every_coupling():
         dense[:, j - 3] = (r[3:] - r0[3:]) / 1e-6
     assert kl == 8
     assert np.abs(banded - dense).max() < 1e-9 * np.abs(dense).max()
+
+
+# ------------------------------------------------------------------ the ANCF cable
+def _ancf(table: dict) -> dict:
+    """The same scene with the ANCF cable (EI 1 N m^2: the nodal cable has none; here it
+    only keeps the free end's slopes determinate)."""
+    table["cable"]["formulation"] = "ancf"
+    for seg in table["cable"]["segments"]:
+        seg["EI"] = max(seg["EI"], 1.0 if seg["length"] > 1.0 else 1e-6)
+    return table
+
+
+def test_ancf_free_decay_period_is_the_compound_pendulum():
+    from towcable_fmu.simulation import Simulation
+
+    mass, jyy, d, length = 50.0, 10.0, 0.8, 0.02
+    table = _ancf(_pendulum_table(0.0, length, mass, jyy, d))
+    table["statics"] = {"enabled": True}
+    sim = Simulation(scene_from_table(table))
+    sim.initialize()
+    assert sim.model.kl == 11 and sim.model.free_idx.size == 6 * 3 + 6   # the body widens no band
+    w0 = 0.15
+    sim.set_body_motion(velocity=[-w0 * d, 0.0, 0.0], angular_velocity=[0.0, w0, 0.0])
+    out = sim.run(20.0, interval=0.002)
+    measured = _crossing_period(out["time"][1:], out["towbody.pitch"][1:])
+    m = np.array([[mass * length**2, mass * length * d], [mass * length * d, mass * d * d + jyy]])
+    k = np.diag([mass * G * length, mass * G * d])
+    low = 2.0 * math.pi / math.sqrt(min(np.linalg.eigvals(np.linalg.solve(m, k)).real))
+    # as the nodal test: period error of the scheme < 1e-5, nonlinear lengthening 1.6e-4;
+    # the link (k = 100 EA/L_e = 1e11 N/m) stretches 5e-9 m under the body's weight
+    assert measured == pytest.approx(low, rel=5e-4)       # measured 1.6e-4
+    p = out["towbody.pitch"]
+    # no fluid, no damping: the energy (cable, link and body) stays that of the release,
+    # 1/2 (J + m d^2) w0^2 = 0.47 J, within 1e-4 (measured 3e-5: Newton's tolerance), and the
+    # amplitude within 3e-3 (measured 1.9e-3: the small cable-swing mode rides on the pitch)
+    energy = out["energy.kinetic"] + out["energy.strain"] + out["energy.gravity"]
+    assert np.abs(energy - energy[0]).max() < 1e-4 * 0.5 * (jyy + mass * d * d) * w0**2
+    assert np.abs(p[-1000:]).max() == pytest.approx(np.abs(p[:1000]).max(), rel=3e-3)
+    assert np.abs(p).max() == pytest.approx(w0 * measured / (2.0 * math.pi), rel=0.03)
+    assert np.abs(out["towbody.roll"]).max() < 1e-9 and np.abs(out["towbody.y"]).max() < 1e-9
+    assert sim.body_state()["link_stretch"] < 1e-8
+
+
+@pytest.mark.parametrize("statics", [True, False])
+def test_ancf_steady_tow_settles_at_the_trim_its_forces_imply(statics):
+    from towcable_fmu.simulation import Simulation
+
+    table = _ancf(_tow_table())
+    table["statics"] = {"enabled": statics}
+    sim = Simulation(scene_from_table(table))
+    start = sim.initialize()
+    if statics:
+        out = start
+    else:   # from the straight cable and a level body: let the tow settle
+        series = sim.run(120.0, interval=0.5)
+        tail = {k: v[-20:] for k, v in series.items()}
+        assert np.ptp(tail["towbody.pitch"]) < 1e-4 and np.ptp(tail["towbody.x"]) < 1e-3
+        out = {k: float(v[-1]) for k, v in series.items()}
+    body = sim.body_state()
+    force = body["cable_force"]   # the force in the link: the cable's pull on the body
+    assert np.linalg.norm(force) == pytest.approx(out["tension.towbody"], rel=1e-12)
+    b = table["towbody"]
+    rho, u = table["water"]["density"], table["water"]["current"]["velocity"][0]
+    rot = body["rotation"]
+    ub = rot.T @ np.array([u, 0.0, 0.0])
+    cda = np.array(b["parts"][0]["area"]) * np.array(b["parts"][0]["drag_coefficient"])
+    drag = rot @ (0.5 * rho * cda * np.abs(ub) * ub)
+    net = force + drag + np.array([0.0, 0.0, (rho * b["volume"] - b["mass"]) * G])
+    assert np.abs(net).max() < 1e-3 * np.linalg.norm(force)
+    trim = _trim_by_hand(table, force)
+    assert abs(out["towbody.pitch"] - trim) < 2e-4
+    assert abs(trim) > 0.05
+    assert abs(out["towbody.roll"]) < 1e-6 and abs(out["towbody.yaw"]) < 1e-6
+    # the tow point sits on the cable end: the link (k = 100 EA/L_e) stretches T/k
+    assert body["link_stretch"] == pytest.approx(np.linalg.norm(force) / sim.model.rigid_k, rel=1e-3)
+    assert body["link_stretch"] < 2e-5
+
+
+def _kicked_in_air(table: dict) -> dict:
+    """The tow scene in air and without the cable's internal damping (the two
+    formulations define it differently: W(55) damps the rotation of the ANCF cable's
+    tangent, the nodal damping only its stretching), step 5 ms: the body hangs at rest,
+    then turns at (0.05, 0.3, 0.1) rad/s (body axes)."""
+    del table["water"], table["towbody"]["parts"], table["towbody"]["volume"]
+    table["solver"]["time_step"] = 0.005
+    table["cable"]["segments"][0]["damping"] = 0.0
+    return table
+
+
+def _kick_run(sim, duration: float = 3.0) -> dict:
+    sim.initialize()
+    sim.set_body_motion(angular_velocity=[0.05, 0.3, 0.1])
+    return sim.run(duration, interval=0.02)
+
+
+_KICK_NAMES = ("towbody.pitch", "towbody.roll", "towbody.yaw", "towbody.x", "towbody.y", "towbody.z")
+
+
+def test_ancf_link_stiffness_does_not_change_the_results():
+    """Ten times stiffer or softer link (k = 10 .. 1000 EA/L_e instead of 100): the swing
+    of a kicked body moves by the change of the link's stretch T/k (3.5e-5 m at the
+    nominal k here, 3.5e-4 m at the softest), far below the tolerances of the ANCF tests,
+    and the hanging trim not at all."""
+    from towcable_fmu.simulation import Simulation
+
+    runs = {}
+    for factor in (0.1, 1.0, 10.0):
+        sim = Simulation(scene_from_table(_ancf(_kicked_in_air(_tow_table()))))
+        sim.model = sim.model._replace(rigid_k=sim.model.rigid_k * factor,
+                                       rigid_c=sim.model.rigid_c * math.sqrt(factor))
+        runs[factor] = _kick_run(sim)
+        stretch = np.linalg.norm(sim.body_state()["cable_force"]) / sim.model.rigid_k
+        assert stretch < 4e-4
+    base = runs[1.0]
+    for factor in (0.1, 10.0):
+        run = runs[factor]
+        assert abs(run["towbody.pitch"][0] - base["towbody.pitch"][0]) < 1e-6    # the hanging trim (statics tolerance)
+        for name in ("towbody.pitch", "towbody.roll", "towbody.yaw"):   # measured <= 7.6e-5 rad
+            assert np.abs(run[name] - base[name]).max() < 2e-4, (factor, name)
+        for name in ("towbody.x", "towbody.y", "towbody.z"):            # measured <= 3.8e-4 m (T/k)
+            assert np.abs(run[name] - base[name]).max() < 5e-4, (factor, name)
+        # measured 10.5 N (k / 10) and 1.4 N (10 k) of about 5.9 kN
+        assert np.abs(run["tension.towbody"] - base["tension.towbody"]).max() < 3e-3 * base["tension.towbody"][0]
+
+
+def test_ancf_and_nodal_rigid_bodies_agree():
+    """The same body with each cable formulation (10 elements over 30 m).
+
+    Hanging in the current (statics): the trim and the cable force agree to the solver
+    tolerance (the cable's drag is the same law), the CG's position to the difference of
+    the two cables' shapes (cubic ANCF elements against straight ones: 0.6 mm in x,
+    1.7 mm in z at 10 elements, four times less at 20). Kicked in air (no damping): the
+    swing over 3 s, measured within 8e-5 rad and 6e-5 m of each other, the tension
+    within 5 N of 5.9 kN (the cables' own transverse modes, which the two meshes place
+    differently)."""
+    from towcable_fmu.simulation import Simulation
+
+    table = _tow_table()
+    nodal = NodalSimulation(scene_from_table(table)).initialize()
+    ancf = Simulation(scene_from_table(_ancf(_tow_table()))).initialize()
+    assert ancf["towbody.pitch"] == pytest.approx(nodal["towbody.pitch"], abs=1e-7)
+    assert ancf["tension.towbody"] == pytest.approx(nodal["tension.towbody"], rel=1e-6)
+    assert ancf["towbody.x"] == pytest.approx(nodal["towbody.x"], abs=2e-3)
+    assert ancf["towbody.z"] == pytest.approx(nodal["towbody.z"], abs=5e-3)
+    nodal = _kick_run(NodalSimulation(scene_from_table(_kicked_in_air(_tow_table()))))
+    ancf = _kick_run(Simulation(scene_from_table(_ancf(_kicked_in_air(_tow_table())))))
+    assert np.ptp(ancf["towbody.pitch"]) > 0.3 and np.ptp(ancf["towbody.yaw"]) > 0.4   # it does swing
+    for name in ("towbody.pitch", "towbody.roll", "towbody.yaw"):
+        assert np.abs(ancf[name] - nodal[name]).max() < 3e-4, name
+    for name in ("towbody.x", "towbody.y", "towbody.z"):
+        assert np.abs(ancf[name] - nodal[name]).max() < 3e-4, name
+    assert np.abs(ancf["tension.towbody"] - nodal["tension.towbody"]).max() < 2e-3 * nodal["tension.towbody"][0]
+
+
+def test_ancf_iteration_matrix_holds_the_body_couplings():
+    """Columns of the body's six coordinates and of the last node's position, and the
+    body's rows, against central differences of the whole residual (acceleration zero:
+    the body block leaves out the attitude derivative of its inertia forces)."""
+    from towcable_fmu.ancf.system import iteration_matrix, residual
+    from towcable_fmu.simulation import Simulation
+
+    table = _ancf(_tow_table())
+    table["cable"]["segments"][0]["elements"] = 4
+    sim = Simulation(scene_from_table(table))
+    sim.initialize()
+    m = sim.model
+    rng = np.random.default_rng(2)
+    q = sim.state.q.copy()
+    free = m.free_dofs
+    q[free] += 1e-3 * rng.standard_normal(free.size)
+    v = np.zeros_like(q)
+    v[free] = 0.2 * rng.standard_normal(free.size)
+    a = np.zeros_like(q)
+    ship = np.zeros((3, 6))
+    ca, cv, cq = 1.0, 0.05, 0.001
+    n = free.size
+    ab = np.zeros((2 * m.kl + m.ku + 1, n))
+    iteration_matrix(m, q, v, 0.0, ship, ca, cv, cq, ab)
+    i = m.rigid_index
+    cols = list(range(i - 6, i - 3)) + list(range(i, i + 6))
+    rp, rm = np.zeros_like(q), np.zeros_like(q)
+    for j in cols:
+        h = 1e-3     # q moves by cq h = 1e-6 m: round-off 1e-9 of the column, truncation below it
+        for sign, r in ((1.0, rp), (-1.0, rm)):
+            qq, vv, aa = q.copy(), v.copy(), a.copy()
+            qq[j] += sign * cq * h
+            vv[j] += sign * cv * h
+            aa[j] += sign * ca * h
+            residual(m, qq, vv, aa, 0.0, ship, r)
+        column = (rp - rm)[free] / (2.0 * h)
+        fc = m.free_idx[j]
+        banded = np.array([ab[m.kl + m.ku + fr - fc, fc] if abs(fr - fc) <= m.kl else 0.0 for fr in range(n)])
+        assert np.abs(banded - column).max() < 1e-7 * np.abs(column).max(), j    # measured <= 1e-9
+    # the body's rows hold nothing outside the band (columns of the other coordinates)
+    for j in free:
+        if j in cols:
+            continue
+        qq = q.copy()
+        qq[j] += 1e-6
+        residual(m, qq, v, a, 0.0, ship, rp)
+        residual(m, q, v, a, 0.0, ship, rm)
+        assert np.abs(rp[i:i + 6] - rm[i:i + 6]).max() == 0.0
+
+
+
+def test_ancf_rigid_state_round_trip_continues_bit_identically():
+    """get_state/set_state carry the body's coordinates (they are integrator coordinates)."""
+    from towcable_fmu.simulation import Simulation
+
+    table = _ancf(_tow_table())
+    table["statics"] = {"enabled": False}
+    sim = Simulation(scene_from_table(table))
+    sim.initialize()
+    sim.advance(1.0)
+    saved = sim.get_state()
+    first = sim.advance(2.0)
+    sim.set_state(saved)
+    again = sim.advance(2.0)
+    assert first == again
+    assert {"towbody.roll", "towbody.pitch", "towbody.yaw", "tension.towbody"} <= set(first)
+    assert abs(first["towbody.pitch"] - saved["fields"]["q"][sim.model.rigid_index + 4]) > 1e-4   # it moved

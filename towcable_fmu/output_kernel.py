@@ -21,6 +21,7 @@ from .contact.cable import surface_summary
 from .contact.surfaces import SHEAVE, WINCH
 from .hydro.towbody import body_force
 from .kinematics import rotation_matrix
+from .nodal.rigid_body import angular_kinematics, tow_point_state
 from .numerics.genalpha import advance as genalpha_advance
 
 #: Entries of the array returned by :func:`output_values`, SI units.
@@ -28,11 +29,13 @@ OUTPUT_FIELDS = ("tension.top", "tension.bottom", "tension.max", "tension.min", 
                  "tension.towbody", "towbody.x", "towbody.y", "towbody.z", "towbody.vx", "towbody.vy", "towbody.vz",
                  "contact.winch_force", "contact.sheave_force", "energy.contact", "tension.winch", "sheave_angle",
                  "tension.sheave", "contact.wrap_angle", "contact.detached",
-                 "energy.kinetic", "energy.strain", "energy.gravity", "winch.phi", "winch.payout")
+                 "energy.kinetic", "energy.strain", "energy.gravity", "winch.phi", "winch.payout",
+                 "towbody.roll", "towbody.pitch", "towbody.yaw")
 _FIELD = {name: k for k, name in enumerate(OUTPUT_FIELDS)}
 _TOWBODY = ("tension.towbody", "towbody.x", "towbody.y", "towbody.z", "towbody.vx", "towbody.vy", "towbody.vz")
 _CONTACT = ("contact.winch_force", "contact.sheave_force", "energy.contact")
 _SHEAVE = ("tension.sheave", "contact.wrap_angle", "contact.detached")
+_RIGID = ("towbody.roll", "towbody.pitch", "towbody.yaw")
 
 
 class OutputLayout:
@@ -42,12 +45,16 @@ class OutputLayout:
     ----------
     towbody, winch, sheave, contact
         The scene has a towed body, a winch, a sheave, any contact surface.
+    rigid
+        The towed body is a rigid 6-DOF body (its attitude is an output too).
     """
 
-    def __init__(self, *, towbody: bool, winch: bool, sheave: bool, contact: bool) -> None:
+    def __init__(self, *, towbody: bool, winch: bool, sheave: bool, contact: bool, rigid: bool = False) -> None:
         names = ["tension.top", "tension.bottom", "tension.max", "tension.min", "angle.top"]
         if towbody:
             names += _TOWBODY
+            if rigid:
+                names += _RIGID
         if contact:
             names += _CONTACT
             if winch:
@@ -89,7 +96,8 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     xi
         Normalised positions per element where the tension extremes are sampled.
     body_weight
-        Weight of the towed body m g [N]; negative: no towed body.
+        Weight of the lumped towed body m g [N]; negative: no lumped towed body (a rigid
+        body, ``model.rigid.enabled``, reports from its own coordinates).
     has_winch
         The cable's top end is on a winch drum.
     sheave_position
@@ -105,14 +113,17 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
         ``tension.top``/``tension.bottom`` are the support reactions at a prescribed end
         (the consistent nodal force), else the axial force from the strain;
         ``tension.towbody`` is the force the cable exerts on the body (its mass times
-        acceleration minus its own weight and hydrodynamic force). The contact fields
+        acceleration minus its own weight and hydrodynamic force; for a rigid body the
+        force in the link to its tow point); a rigid body's ``towbody.x/y/z`` and
+        velocities are those of its CG, and its kinetic energy, weight and link strain
+        energy are included in the energies. The contact fields
         follow :meth:`~towcable_fmu.simulation.Simulation.outputs`. Fields a scene does
         not model are NaN.
     """
     out = np.full(len(OUTPUT_FIELDS), np.nan)
     (reaction_top, reaction_bottom, t_first, t_last, t_max, t_min, kinetic, strain,
      gravity) = summary(model, q, v, a, t, ship, xi, r)
-    last = q.shape[0] - 6
+    last = 6 * (model.node_mass.shape[0] - 1)
     top = reaction_top if model.free_idx[0] < 0 else max(t_first, 0.0)
     bottom = reaction_bottom if model.free_idx[last] < 0 else max(t_last, 0.0)
     out[0] = top
@@ -131,6 +142,8 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
             out[6 + c] = q[last + c]
             out[9 + c] = v[last + c]
         out[5] = math.sqrt(total)
+    if model.rigid.enabled:
+        kinetic, strain, gravity = _rigid_values(model, q, v, a, out, kinetic, strain, gravity)
     out[20] = kinetic
     out[21] = strain
     out[22] = gravity
@@ -139,6 +152,34 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     if model.contact.enabled:
         _contact_values(model, q, v, ship, has_winch, sheave_position, top, out)
     return out
+
+
+@njit(cache=True)
+def _rigid_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, out: np.ndarray,
+                  kinetic: float, strain: float, gravity: float) -> tuple:
+    """A rigid towed body's CG, velocity, attitude and link force into ``out``; returns the
+    energies with the body's kinetic energy, weight and link strain energy added [J]."""
+    i = model.rigid_index
+    p = i - 6
+    b = model.rigid
+    xt, vt, at = np.empty(3), np.empty(3), np.empty(3)
+    tow_point_state(b, q[i:i + 6], v[i:i + 6], a[i:i + 6], xt, vt, at)
+    _, _, w, _ = angular_kinematics(q[i:i + 6], v[i:i + 6], a[i:i + 6])
+    force = 0.0
+    stretch = 0.0
+    for c in range(3):
+        d = q[p + c] - xt[c]
+        f = model.rigid_k * d + model.rigid_c * (v[p + c] - vt[c])
+        force += f * f
+        stretch += d * d
+        out[6 + c] = q[i + c]
+        out[9 + c] = v[i + c]
+        out[25 + c] = q[i + 3 + c]
+        kinetic += 0.5 * b.mass * v[i + c] ** 2
+        for k in range(3):
+            kinetic += 0.5 * w[c] * b.inertia[c, k] * w[k]
+    out[5] = math.sqrt(force)
+    return kinetic, strain + 0.5 * model.rigid_k * stretch, gravity + b.mass * model.gravity * q[i + 2]
 
 
 @njit(cache=True)

@@ -22,6 +22,7 @@ from .contact.cable import surface_summary
 from .output_kernel import OutputLayout, advance_recording, output_values
 from .errors import SceneError, SolverError
 from .kinematics import rotation_matrix
+from .nodal.rigid_body import ROW_TOW, angular_kinematics, rotation, tow_point_state
 from .hydro.turbulence import TurbulenceSeries
 from .numerics import genalpha
 from .numerics.statics import StaticsResult, solve_statics
@@ -119,10 +120,13 @@ class Simulation:
         self._last_outputs: dict[str, float] = {}
         self._payout_radius = winch_radius(scene) if scene.winch is not None else 0.0  # r_w + d/2 [m]
         self._phi_nom = scene.winch.phi_nom if scene.winch is not None else 0.0
-        self._body_weight = -1.0 if scene.towbody is None else scene.towbody.mass * scene.environment.gravity
+        rigid = bool(self.model.rigid.enabled)
+        self._body_weight = (-1.0 if scene.towbody is None or rigid
+                             else scene.towbody.mass * scene.environment.gravity)
         #: The outputs this scene has (names in DESIGN.md), see :meth:`outputs`.
         self.layout = OutputLayout(towbody=scene.towbody is not None, winch=scene.winch is not None,
-                                   sheave=scene.sheave is not None, contact=bool(self.model.contact.enabled))
+                                   sheave=scene.sheave is not None, contact=bool(self.model.contact.enabled),
+                                   rigid=rigid)
         # sheave centre in the ship frame [m] (NaN: none), for the compiled outputs
         self._sheave_position = np.array(scene.sheave.position if scene.sheave is not None else [np.nan] * 3,
                                          dtype=float)
@@ -270,8 +274,13 @@ class Simulation:
         return self.outputs()
 
     def _initial_coordinates(self, ship0: np.ndarray) -> np.ndarray:
-        """Rough initial coordinates: the cable's shape, then the load hanging on along its end."""
+        """Rough initial coordinates: the cable's shape, then the load hanging on along its
+        end, or a rigid body at its initial attitude with its tow point on the last node."""
         x = self._initial_cable_shape(ship0)
+        if self.model.rigid.enabled:
+            attitude = np.array(self.scene.towbody.rigid.attitude, dtype=float)
+            cg = x[-6:-3] - rotation(*attitude) @ self.model.rigid.axes[ROW_TOW]
+            return np.concatenate([x, cg, attitude])
         if self.scene.load is None:
             return x
         end = x[-6:-3]
@@ -354,13 +363,21 @@ class Simulation:
                 self.viv.set_state(wake)
             raise SolverError(f"the solver could not advance from t = {saved[0].clock[0]:.6g} s to "
                               f"t = {t_end:.6g} s: Newton failed at the minimum step size "
-                              f"{self.options.h_min:g} s near t = {reached:.6g} s")
+                              f"{self.options.h_min:g} s near t = {reached:.6g} s{self._failure_hint()}")
         out = self.outputs()
         if not all(math.isfinite(v) for v in out.values()):
             self._restore(saved)
             raise SolverError(f"non-finite outputs at t = {t_end:.6g} s")
         self._last_outputs = out
         return out
+
+    def _failure_hint(self) -> str:
+        """What a failed step of a rigid-body scene may be due to (empty otherwise)."""
+        if not self.model.rigid.enabled:
+            return ""
+        pitch = float(self.state.q[self.model.rigid_index + 4])
+        return (f"; the rigid body's pitch is {pitch:.4g} rad, its Euler angles are singular at +-pi/2"
+                if abs(math.cos(pitch)) < 0.1 else "")
 
     def _integrate(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> int:
         """genalpha.advance to t_end; with wake oscillators, one solver step at a time with the
@@ -543,6 +560,74 @@ class Simulation:
         return {"tension.load": float(np.linalg.norm(pull)), "load.angle": float(np.arctan2(d[0], -d[2])),
                 "energy.load": float(kinetic + link)}
 
+    def body_state(self) -> dict[str, np.ndarray]:
+        """State of a rigid towed body (as :meth:`NodalSimulation.body_state
+        <towcable_fmu.nodal.simulation.NodalSimulation.body_state>`).
+
+        Returns
+        -------
+        dict
+            ``position`` (CG) [m] and ``velocity`` [m/s] (inertial), ``attitude`` (roll,
+            pitch, yaw) [rad], ``rotation`` R (body -> inertial), ``angular_velocity``
+            [rad/s] (body axes), ``angular_momentum`` R J w [kg m^2/s] (inertial axes, about
+            the CG; J without added inertia), ``tow_point`` [m] and ``cable_force`` [N], the
+            force of the cable on the body (the force in the link from the last node to the
+            tow point), and ``link_stretch`` [m], the length of that link.
+
+        Raises
+        ------
+        ValueError
+            If the scene has no rigid towed body.
+        """
+        m, st = self.model, self.state
+        if not m.rigid.enabled:
+            raise ValueError("the scene has no rigid towed body (towbody.model = 'rigid')")
+        i = m.rigid_index
+        p = i - 6
+        rot, _, w, _ = angular_kinematics(st.q[i:i + 6], st.v[i:i + 6], st.a[i:i + 6])
+        xt, vt, at = np.empty(3), np.empty(3), np.empty(3)
+        tow_point_state(m.rigid, st.q[i:i + 6], st.v[i:i + 6], st.a[i:i + 6], xt, vt, at)
+        d = st.q[p:p + 3] - xt
+        force = m.rigid_k * d + m.rigid_c * (st.v[p:p + 3] - vt)
+        return {"position": st.q[i:i + 3].copy(), "velocity": st.v[i:i + 3].copy(),
+                "attitude": st.q[i + 3:i + 6].copy(), "rotation": rot, "angular_velocity": w,
+                "angular_momentum": rot @ (m.rigid.inertia @ w), "tow_point": xt, "cable_force": force,
+                "link_stretch": float(np.linalg.norm(d))}
+
+    def set_body_motion(self, velocity: Iterable[float] | None = None,
+                        angular_velocity: Iterable[float] | None = None) -> dict[str, float]:
+        """Give an initialised rigid towed body a CG velocity [m/s] (inertial) and an
+        angular velocity [rad/s] (body axes), then make the accelerations consistent.
+        The cable's last node takes the new velocity of the tow point (the link is not
+        set moving); the other nodes keep theirs.
+
+        Returns
+        -------
+        dict
+            Outputs in the new state.
+
+        Raises
+        ------
+        ValueError
+            Without a rigid body, or before :meth:`initialize`.
+        SolverError
+            If the accelerations are not finite.
+        """
+        m, st = self.model, self.state
+        if not m.rigid.enabled or not self._initialized:
+            raise ValueError("set_body_motion needs an initialised scene with a rigid towed body")
+        i = m.rigid_index
+        v = st.v.copy()
+        if velocity is not None:
+            v[i:i + 3] = np.asarray(velocity, dtype=float)
+        if angular_velocity is not None:
+            _, g, _, _ = angular_kinematics(st.q[i:i + 6], v[i:i + 6], st.a[i:i + 6])
+            v[i + 3:i + 6] = np.linalg.solve(g, np.asarray(angular_velocity, dtype=float))
+        xt, vt, at = np.empty(3), np.empty(3), np.empty(3)
+        tow_point_state(m.rigid, st.q[i:i + 6], v[i:i + 6], st.a[i:i + 6], xt, vt, at)
+        v[i - 6:i - 3] = vt
+        return self.set_coordinates(st.q.copy(), v)
+
     def contact_state(self) -> dict[str, np.ndarray]:
         """Contact at the current time: totals per surface and the force distribution.
 
@@ -684,7 +769,7 @@ class Simulation:
                 if self.time < samples[reached] - 1e-12 * max(1.0, abs(samples[reached])):
                     raise SolverError(f"the solver could not advance to t = {samples[reached]:.6g} s: Newton "
                                       f"failed at the minimum step size {self.options.h_min:g} s near "
-                                      f"t = {self.time:.6g} s")
+                                      f"t = {self.time:.6g} s{self._failure_hint()}")
                 raise SolverError(f"non-finite outputs at t = {samples[reached]:.6g} s")
             if progress is not None:
                 progress(self.time, t0 + duration)

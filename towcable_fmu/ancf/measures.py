@@ -115,7 +115,7 @@ def summary(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: f
     """
     out = np.zeros(len(SUMMARY_FIELDS))
     ne = model.el_len.shape[0]
-    last = q.shape[0] - 6
+    last = 6 * (model.node_mass.shape[0] - 1)  # the last node (extra coordinates of a load or body follow)
     if model.free_idx[0] < 0:
         residual_span(model, q, v, a, t, ship, 0, 1, r)
         out[0] = np.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)

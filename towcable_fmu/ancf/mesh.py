@@ -15,6 +15,8 @@ from ..hydro.cable import CableHydro
 from ..hydro.loading import LOADINGS
 from ..hydro.towbody import BodyHydro, no_body
 from ..hydro.water import CURRENT_KINDS, WaterModel, dry_water
+from ..nodal.rigid_body import NDOF as RIGID_NDOF
+from ..nodal.rigid_body import ROW_TOW, build_rigid_body
 from ..scene.model import End, Scene
 from . import element
 from ..contact.surfaces import CYLINDER, RIM, SHEAVE, WALL_MINUS, WALL_PLUS, WINCH, ContactModel, no_contact
@@ -23,6 +25,19 @@ from .system import CableModel
 
 #: Gauss points per element for the axial force (exact for its polynomial integrands).
 AXIAL_GAUSS_POINTS = 5
+
+#: Stiffness of the link between the cable's last node and a rigid body's tow point, as
+#: a multiple of the axial stiffness EA/L of the last element [-]. The link then stretches
+#: 1/100 as much as that element under the same force (T/k; 5e-9 m in the free-decay
+#: test, 0.5 mm at the 30 kN of the sea-trial body); tests/test_rigid_towbody.py shows
+#: the results do not move beyond their tolerances when the factor changes tenfold
+#: either way. The link mode (the last node's mass on k) lies far above any resolved
+#: frequency; the implicit integrator damps it numerically, and a damper
+#: c = 2 sqrt(k m_N) (critical for that node's mass m_N) damps it physically. Newton
+#: measures the corrections at the link's ends by the force they make in it (see
+#: ``free_scale`` below). A stiffer link would raise the round-off floor of the residual
+#: (k eps |X|) towards the statics tolerance on short, stiff cables.
+RIGID_LINK_FACTOR = 100.0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -81,8 +96,11 @@ def _attachments(end: End, node: int, sign: float, winch_center: np.ndarray | No
     return out
 
 
-def _band_width(free_idx: np.ndarray, n_elements: int) -> int:
+def _band_width(free_idx: np.ndarray, n_elements: int, rigid: bool = False) -> int:
     width = 6 if free_idx.size % 6 else 0  # a rigid load couples the last node with 3 extra coordinates
+    if rigid:  # a rigid body's 6 coordinates couple with the last node's position
+        last = 6 * n_elements
+        width = int(free_idx[-1] - free_idx[last])
     for e in range(n_elements):
         idx = free_idx[6 * e: 6 * e + 12]
         idx = idx[idx >= 0]
@@ -96,7 +114,8 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
     segs = scene.cable.segments
     ne, nn = mesh.n_elements, mesh.n_nodes
     rigid = scene.load
-    nf = 6 * nn + (3 if rigid is not None else 0)
+    body6 = build_rigid_body(scene)
+    nf = 6 * nn + (3 if rigid is not None else 0) + (RIGID_NDOF if body6.enabled else 0)
     g = scene.environment.gravity
     el_len = mesh.lengths.copy()
     props = [segs[i] for i in mesh.segment_of_element]
@@ -114,7 +133,7 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
     node_mass = np.zeros((nn, 3))
     node_mass[0, :] += scene.cable.top.mass
     node_mass[-1, :] += scene.cable.bottom.mass
-    if scene.towbody is not None:
+    if scene.towbody is not None and not body6.enabled:
         node_mass[-1, :] += scene.towbody.mass
     f_const[2:6 * nn:6] -= node_mass[:, 2] * g
     load_mass = np.zeros(3)
@@ -132,13 +151,23 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
     free_dofs = np.flatnonzero(~prescribed)
     free_idx = np.full(nf, -1, dtype=np.int64)
     free_idx[free_dofs] = np.arange(free_dofs.size)
-    width = _band_width(free_idx, ne)
+    width = _band_width(free_idx, ne, body6.enabled)
     node_length = np.minimum(np.concatenate([el_len[:1], el_len]), np.concatenate([el_len, el_len[-1:]]))
     node_length = np.append(node_length, node_length[-1])  # the load's point I scales like the last node
     scale = np.where(free_dofs % 6 < 3, 1.0 / node_length[np.minimum(free_dofs // 6, nn)], 1.0)
+    if body6.enabled:
+        # Newton's corrections of the link's ends, measured by the force they make in the
+        # link (k dq against EA newton_tol, as for the elements): the last node's position
+        # and the CG RIGID_LINK_FACTOR times stricter, the angles by the tow point's arm
+        arm = float(np.linalg.norm(body6.axes[ROW_TOW]))
+        ends = (free_dofs >= 6 * (nn - 1)) & (free_dofs % 6 < 3)     # last node's position, body's CG
+        scale[ends] = RIGID_LINK_FACTOR / el_len[-1]
+        scale[free_dofs >= 6 * nn + 3] = max(1.0, RIGID_LINK_FACTOR * arm / el_len[-1])   # body's angles
 
     gx, gw = element.gauss_legendre(AXIAL_GAUSS_POINTS)
     water = build_water(scene)
+    link_k = RIGID_LINK_FACTOR * el_ea[-1] / el_len[-1]
+    link_c = 2.0 * np.sqrt(link_k * (el_mass[-1, 2, 2] + node_mass[-1, 0]))
     return CableModel(
         el_len=el_len, el_ea=el_ea, el_tension_only=el_tension_only, el_mass=el_mass, el_bend=el_bend,
         el_damp=el_damp, f_const=f_const, node_mass=node_mass,
@@ -152,6 +181,7 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
         contact=build_contact(scene),
         load_on=rigid is not None, load_index=6 * nn, load_mass=load_mass,
         load_k=0.0 if rigid is None else rigid.stiffness, load_length=1.0 if rigid is None else rigid.length_pi,
+        rigid=body6, rigid_index=6 * nn, rigid_k=link_k, rigid_c=link_c, gravity=g,
     )
 
 
@@ -225,7 +255,7 @@ def build_cable_hydro(scene: Scene, mesh: Mesh, wet: bool) -> CableHydro:
 def build_body(scene: Scene, index: int) -> BodyHydro:
     """Towed-body data (disabled without a body or without water)."""
     body, w = scene.towbody, scene.water
-    if body is None or w is None:
+    if body is None or w is None or body.model == "rigid":  # a rigid body has its own kernel
         return no_body()
     volume = scene.towbody_volume()
     cm = np.array(body.added_mass_coefficient, dtype=float)

@@ -11,6 +11,13 @@ The equations of motion are written as the residual
 over all coordinates; rows of free coordinates are the equations, rows of prescribed
 coordinates are the reaction forces. Constant element matrices are Kronecker products
 ``m (x) I_3`` of 4x4 factors and are applied as such.
+
+Extra coordinates follow the cable's: a rigid load's centre of inertia (3, W(138)-(139)),
+or a rigid 6-DOF towed body's CG and roll, pitch, yaw (6, the kernel of
+:mod:`towcable_fmu.nodal.rigid_body`). The body hangs from the last node by a stiff
+spring-damper link to its tow point (the ANCF node keeps its slope coordinates free:
+the joint is spherical); see :func:`_rigid_rows` and ``RIGID_LINK_FACTOR`` in
+:mod:`towcable_fmu.ancf.mesh`.
 """
 
 from __future__ import annotations
@@ -27,6 +34,7 @@ from ..hydro import towbody as body_hydro
 from ..hydro.cable import CableHydro
 from ..hydro.towbody import BodyHydro
 from ..hydro.water import WaterModel
+from ..nodal.rigid_body import RigidBodyModel, attitude_ok, body_residual, tow_point_state
 from ..numerics.banded import band_add_block
 from .axial import axial_force, axial_tangent, slope_derivatives
 
@@ -65,6 +73,11 @@ class CableModel(NamedTuple):
     load_mass: np.ndarray       #: (3,) entries m_PP, m_PI, m_II of the load mass matrix W(138) [kg]
     load_k: float               #: k_L, stiffness of the link P-I [N]
     load_length: float          #: L_PI, rest length of the link [m]
+    rigid: RigidBodyModel       #: rigid 6-DOF towed body (``enabled`` False: none), see nodal/rigid_body.py
+    rigid_index: int            #: first of the body's six coordinates (CG [m], roll, pitch, yaw [rad])
+    rigid_k: float              #: stiffness of the link last node - tow point [N/m]
+    rigid_c: float              #: damping of that link [N s/m]
+    gravity: float              #: g [m/s^2] (the rigid body's weight; the cable's is in f_const)
 
 
 @njit(cache=True, inline="always")
@@ -141,6 +154,8 @@ def residual_span(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     to_end = stop == model.el_len.shape[0]
     if model.load_on and to_end:
         _load_residual(model, q, a, out)
+    if model.rigid.enabled and to_end:
+        _rigid_residual(model, q, v, a, t, out)
     if model.contact.enabled:
         cable_contact.add_residual(model.contact, model.el_len, model.hydro.el_d, model.hydro.el_npts, q, v, ship,
                                    first, stop, out)
@@ -149,6 +164,134 @@ def residual_span(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
         if model.body.enabled and to_end:
             body_hydro.add_residual(model.water, model.body, q, v, a, t, out)
     return energy
+
+
+@njit(cache=True)
+def _rigid_rows(model: CableModel, zq: np.ndarray, zv: np.ndarray, za: np.ndarray, t: float,
+                rows: np.ndarray) -> None:
+    """The residual rows of the rigid towed body and its link to the cable end.
+
+    Parameters
+    ----------
+    model
+        The cable system (``model.rigid.enabled``).
+    zq, zv, za
+        Local coordinates, rates and accelerations (9 each): the last node's position
+        [m], then the body's CG [m] and roll, pitch, yaw [rad].
+    t
+        Time [s].
+    rows
+        Output (9,): the link force on the last node's position rows [N], then the six
+        body residuals of :func:`~towcable_fmu.nodal.rigid_body.body_residual` [N, N m].
+
+    Notes
+    -----
+    The link is a stiff spring-damper between the last node X_N and the tow point
+    p = r + R p_b: the cable end feels ``-f``, the body ``+f`` at its tow point, with
+    ``f = k (X_N - p) + c (V_N - dp/dt)``. ``body_residual`` takes the force the body
+    exerts on the cable end, ``-f``.
+    """
+    xt = np.empty(3)
+    vt = np.empty(3)
+    at = np.empty(3)
+    tow_point_state(model.rigid, zq[3:9], zv[3:9], za[3:9], xt, vt, at)
+    f = np.empty(3)
+    for c in range(3):
+        f[c] = model.rigid_k * (zq[c] - xt[c]) + model.rigid_c * (zv[c] - vt[c])
+        rows[c] = f[c]
+    body_residual(model.water, model.rigid, model.gravity, zq[3:9], zv[3:9], za[3:9], t, -f, rows[3:9])
+
+
+@njit(cache=True, inline="always")
+def _rigid_local(model: CableModel, x: np.ndarray, z: np.ndarray) -> None:
+    """Gather the 9 local entries (last node position, body coordinates) of ``x`` into ``z``."""
+    p = model.rigid_index - 6
+    i = model.rigid_index
+    for c in range(3):
+        z[c] = x[p + c]
+    for c in range(6):
+        z[3 + c] = x[i + c]
+
+
+@njit(cache=True)
+def _rigid_residual(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: float,
+                    out: np.ndarray) -> None:
+    """Add the rigid body's rows and its link force on the last node to ``out``."""
+    zq, zv, za, rows = np.empty(9), np.empty(9), np.empty(9), np.empty(9)
+    _rigid_local(model, q, zq)
+    _rigid_local(model, v, zv)
+    _rigid_local(model, a, za)
+    _rigid_rows(model, zq, zv, za, t, rows)
+    if not attitude_ok(zq[3:9]) or abs(zq[7]) > 0.5 * np.pi:
+        # Euler angles singular (pitch +-pi/2): no residual, the step fails (the nodal
+        # cable's integrators stop there too; Simulation names the cause)
+        rows[:] = np.nan
+    p = model.rigid_index - 6
+    i = model.rigid_index
+    for c in range(3):
+        out[p + c] += rows[c]
+    for c in range(6):
+        out[i + c] += rows[3 + c]
+
+
+@njit(cache=True)
+def rigid_block(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, ca: float, cv: float,
+                cq: float) -> np.ndarray:
+    """``ca M + cv C + cq K`` of the rigid body and its link over the 9 local coordinates.
+
+    The body's equations are nonlinear in its angles and in the relative flow; their
+    derivatives are taken by differences of :func:`_rigid_rows` (central for q and v,
+    one-sided for a, in which the rows are linear), at zero acceleration: the change of
+    the inertia forces with the attitude (terms in the body's acceleration) is left
+    out, as modified Newton allows. Rows and columns: the last node's position, then the
+    body's coordinates.
+    """
+    zq, zv, za = np.empty(9), np.empty(9), np.zeros(9)
+    _rigid_local(model, q, zq)
+    _rigid_local(model, v, zv)
+    r0, rp, rm = np.empty(9), np.empty(9), np.empty(9)
+    block = np.zeros((9, 9))
+    _rigid_rows(model, zq, zv, za, t, r0)
+    for j in range(9):
+        if ca != 0.0:
+            za[j] = 1.0
+            _rigid_rows(model, zq, zv, za, t, rp)
+            za[j] = 0.0
+            for r in range(9):
+                block[r, j] += ca * (rp[r] - r0[r])
+        for kind in range(2):
+            weight = cq if kind == 0 else cv
+            if weight == 0.0:
+                continue
+            z = zq if kind == 0 else zv
+            keep = z[j]
+            h = 1e-6 * max(1.0, abs(keep))
+            z[j] = keep + h
+            _rigid_rows(model, zq, zv, za, t, rp)
+            z[j] = keep - h
+            _rigid_rows(model, zq, zv, za, t, rm)
+            z[j] = keep
+            for r in range(9):
+                block[r, j] += weight * (rp[r] - rm[r]) / (2.0 * h)
+    return block
+
+
+@njit(cache=True)
+def _rigid_jacobian(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, ca: float, cv: float, cq: float,
+                    ab: np.ndarray) -> None:
+    """Add :func:`rigid_block` to the band storage ``ab``."""
+    block = rigid_block(model, q, v, t, ca, cv, cq)
+    off = model.kl + model.ku
+    p = model.rigid_index - 6
+    i = model.rigid_index
+    for r in range(9):
+        fr = model.free_idx[p + r if r < 3 else i + r - 3]
+        if fr < 0:
+            continue
+        for c in range(9):
+            fc = model.free_idx[p + c if c < 3 else i + c - 3]
+            if fc >= 0:
+                ab[off + fr - fc, fc] += block[r, c]
 
 
 @njit(cache=True)
@@ -255,6 +398,8 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
                 ab[off, fi] += ca * model.node_mass[n, c]
     if model.load_on:
         _load_jacobian(model, q, ca, cq, ab)
+    if model.rigid.enabled:
+        _rigid_jacobian(model, q, v, t, ca, cv, cq, ab)
     if model.contact.enabled:
         cable_contact.add_jacobian(model.contact, model.el_len, model.hydro.el_d, model.hydro.el_npts, q, v, ship,
                                    model.free_idx, model.kl, model.ku, cv, cq, ab)

@@ -1,4 +1,4 @@
-"""A rigid 6-DOF towed body at the end of the nodal-position cable.
+"""A rigid 6-DOF towed body at the end of the cable (nodal-position or ANCF).
 
 The paper (shared/reference/nodal-position-fem-towed-cable-paper.md, section 3.2)
 models the sea-trial body "as a rigid body" and gives its mass, volume, length and
@@ -31,6 +31,13 @@ The cable's residual at node N, ``r_N`` (the force the body must exert on the ca
 is carried to the body by the transpose of that map: ``r_N`` on the translation and
 ``G^T (p x R^T r_N)`` on the rotation. No link stiffness, so no new stiff mode (the
 explicit RK4 keeps its step).
+
+On the ANCF cable (:mod:`towcable_fmu.ancf.system`) the same :func:`body_residual`
+is used, but the last node keeps its coordinates (its slopes must stay free and the
+assembly is built around whole nodes): the body's six coordinates follow the cable's,
+and a stiff spring-damper link ``f = k (X_N - p) + c (V_N - dp/dt)`` joins the node to
+the tow point; ``r_N`` above is then ``-f``. The implicit integrator carries the link's
+stiffness (k = 100 EA/L of the last element, ``towcable_fmu.ancf.mesh.RIGID_LINK_FACTOR``).
 
 Simplifications (the paper gives none of these terms): the added mass is diagonal
 in body axes without the Munk moment or added-mass Coriolis terms; the rotational

@@ -356,7 +356,9 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
             st.abar[k] += scale * d
             st.v[k] += gp * d
             st.q[k] += bp * d
-            dnorm = max(dnorm, abs(bp * d) * model.free_scale[i])
+            e = abs(bp * d) * model.free_scale[i]
+            if not e <= dnorm:  # (not max(): a NaN correction must not pass as converged)
+                dnorm = e
         if not math.isfinite(dnorm):
             break
         if it > 0:

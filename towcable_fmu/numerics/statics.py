@@ -62,6 +62,8 @@ def _ptc(model: CableModel, q: np.ndarray, ship: np.ndarray, t: float, tolerance
     n = model.free_dofs.size
     free = model.free_dofs
     position_dof = (free % 6) < 3
+    # the move limit in element lengths (free_scale is stricter at a rigid body's link: Newton's measure)
+    move_scale = np.minimum(model.free_scale, 1.0 / model.el_len.min())[position_dof]
     ab = np.zeros((2 * model.kl + model.ku + 1, n))
     work = np.zeros_like(ab)
     ipiv = np.zeros(n, dtype=np.int64)
@@ -90,7 +92,7 @@ def _ptc(model: CableModel, q: np.ndarray, ship: np.ndarray, t: float, tolerance
             tau *= 0.25  # keep K + M/tau positive definite: descend, never climb to a saddle
             continue
         band_solve(ab, n, model.kl, model.ku, ipiv, rhs)
-        biggest = np.abs(rhs[position_dof] * model.free_scale[position_dof]).max(initial=0.0)
+        biggest = np.abs(rhs[position_dof] * move_scale).max(initial=0.0)
         if biggest > move_limit:
             rhs *= move_limit / biggest
         trial = q.copy()

@@ -292,8 +292,8 @@ class Lift:
 @dataclasses.dataclass(frozen=True)
 class RigidBody:
     """Rigid-body data of a towed body with ``model = "rigid"`` (6 degrees of freedom;
-    towcable_fmu/nodal/rigid_body.py). Body axes: x forward, y port, z up, origin at the
-    centre of gravity (CG); attitude R = Rz(yaw) Ry(pitch) Rx(roll). The body's mass,
+    towcable_fmu/nodal/rigid_body.py, for both cable formulations). Body axes: x forward,
+    y port, z up, origin at the centre of gravity (CG); attitude R = Rz(yaw) Ry(pitch) Rx(roll). The body's mass,
     volume, drag parts and added-mass coefficients are the keys of [towbody], read in
     body axes."""
 
@@ -343,7 +343,7 @@ class RigidBody:
 @dataclasses.dataclass(frozen=True)
 class TowBody:
     """A towed body at the bottom end of the cable: lumped, W(85)-(92) (default), or a
-    rigid 6-DOF body (``model = "rigid"``, nodal-position cable)."""
+    rigid 6-DOF body (``model = "rigid"``, either cable formulation)."""
 
     mass: float = spec(unit="kg", gt=0.0, doc="mass m_b")
     volume: float | None = spec(None, unit="m^3", ge=0.0, doc="displaced volume V (or give 'net_weight')")
@@ -359,7 +359,8 @@ class TowBody:
     name: str = spec("towbody", doc="label")
     model: str = spec("lumped", choices=("lumped", "rigid"),
                       doc="lumped: a point mass at the last node, W(85)-(92); rigid: a 6-DOF rigid body hanging "
-                          "from its tow point ([towbody.rigid]; cable.formulation = 'nodal_position')")
+                          "from its tow point ([towbody.rigid]; nodal-position cable: the last node is the tow "
+                          "point; ANCF cable: a stiff link joins the last node to it)")
     rigid: RigidBody | None = spec(None, doc="rigid-body data (required exactly when model = 'rigid')")
 
     def validate(self, key: str) -> None:
@@ -477,9 +478,6 @@ class Scene:
         if self.towbody is not None and self.cable.bottom.type != "free":
             raise SceneError("cable.bottom.type", self.cable.bottom.type, "'free' when a [towbody] is attached")
         body = self.towbody
-        if body is not None and body.model == "rigid" and self.cable.formulation != "nodal_position":
-            raise SceneError("towbody.model", "rigid", "'lumped' unless cable.formulation = 'nodal_position' "
-                                                       "(the rigid body is not implemented for the ANCF cable)")
         if body is not None and self.water is None and (body.parts or body.lift or body.net_weight is not None):
             raise SceneError("towbody", body.name, "no hydrodynamic properties (parts, lift, net_weight) "
                                                    "without a [water] section")
