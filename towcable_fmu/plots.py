@@ -23,6 +23,16 @@ PANELS = (
 )
 
 
+def _save(fig, path: Path, title: str) -> None:
+    """Title the figure, write it as PNG (creating the folder) and release it."""
+    if title:
+        fig.suptitle(title, fontsize=11)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def plot_run(series: dict[str, np.ndarray], path: Path, title: str = "") -> None:
     """Time-series panels of a run, one per quantity group, saved as PNG.
 
@@ -46,12 +56,7 @@ def plot_run(series: dict[str, np.ndarray], path: Path, title: str = "") -> None
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8, loc="best")
     axes[-1, 0].set_xlabel("time [s]")
-    if title:
-        fig.suptitle(title, fontsize=11)
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _save(fig, path, title)
 
 
 def _time_panel(ax, t: np.ndarray, series: dict[str, np.ndarray], keys: tuple[str, ...], title: str,
@@ -96,12 +101,7 @@ def plot_cosim(series: dict[str, np.ndarray], path: Path, title: str = "") -> No
     _time_panel(axes[1, 0], t, series, ("contact.sheave_force",), "Sheave contact force")
     _time_panel(axes[1, 1], t, series, ("winch.phi", "winch.phi_sp"), "Winch rotation and set-point",
                 fallback=("winch.phi_sp",))
-    if title:
-        fig.suptitle(title, fontsize=11)
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _save(fig, path, title)
 
 
 def plot_contact_distribution(distribution: np.ndarray, path: Path, references: dict[int, tuple[str, float]],
@@ -137,9 +137,4 @@ def plot_contact_distribution(distribution: np.ndarray, path: Path, references: 
         ax.set_title(names.get(surface, f"surface {surface}"), fontsize=10)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    if title:
-        fig.suptitle(title, fontsize=11)
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _save(fig, path, title)
