@@ -58,6 +58,15 @@ def _crossing_period(t: np.ndarray, y: np.ndarray) -> float:
     return 2.0 * float(np.mean(np.diff(tc)))
 
 
+def _two_dof_period(mass: float, jyy: float, d: float, length: float) -> float:
+    """Period [s] of the slower mode of the pendulum's two DOF (cable angle, body angle),
+    linearised: massless cable of length l, body on a spherical joint at distance d above
+    its CG."""
+    m = np.array([[mass * length**2, mass * length * d], [mass * length * d, mass * d * d + jyy]])
+    k = np.diag([mass * G * length, mass * G * d])
+    return 2.0 * math.pi / math.sqrt(min(np.linalg.eigvals(np.linalg.solve(m, k)).real))
+
+
 def test_free_decay_period_is_the_compound_pendulum():
     mass, jyy, d, length = 50.0, 10.0, 0.8, 0.02
     table = _pendulum_table(0.0, length, mass, jyy, d)
@@ -68,11 +77,7 @@ def test_free_decay_period_is_the_compound_pendulum():
     sim.set_body_motion(velocity=[-w0 * d, 0.0, 0.0], angular_velocity=[0.0, w0, 0.0])
     out = sim.run(20.0, interval=0.002)
     measured = _crossing_period(out["time"][1:], out["towbody.pitch"][1:])
-    # the pendulum's two DOF (cable angle, body angle), linearised: massless cable of
-    # length l, body on a spherical joint at distance d above its CG
-    m = np.array([[mass * length**2, mass * length * d], [mass * length * d, mass * d * d + jyy]])
-    k = np.diag([mass * G * length, mass * G * d])
-    low = 2.0 * math.pi / math.sqrt(min(np.linalg.eigvals(np.linalg.solve(m, k)).real))
+    low = _two_dof_period(mass, jyy, d, length)
     compound = 2.0 * math.pi * math.sqrt((jyy + mass * d * d) / (mass * G * d))  # about the tow point
     simple = 2.0 * math.pi * math.sqrt((length + d) / G)
     # time step 2 ms: generalised-alpha's period error ~ (omega h)^2 / 12 < 1e-5; amplitude
@@ -408,9 +413,7 @@ def test_ancf_free_decay_period_is_the_compound_pendulum():
     sim.set_body_motion(velocity=[-w0 * d, 0.0, 0.0], angular_velocity=[0.0, w0, 0.0])
     out = sim.run(20.0, interval=0.002)
     measured = _crossing_period(out["time"][1:], out["towbody.pitch"][1:])
-    m = np.array([[mass * length**2, mass * length * d], [mass * length * d, mass * d * d + jyy]])
-    k = np.diag([mass * G * length, mass * G * d])
-    low = 2.0 * math.pi / math.sqrt(min(np.linalg.eigvals(np.linalg.solve(m, k)).real))
+    low = _two_dof_period(mass, jyy, d, length)
     # as the nodal test: period error of the scheme < 1e-5, nonlinear lengthening 1.6e-4;
     # the link (k = 100 EA/L_e = 1e11 N/m) stretches 5e-9 m under the body's weight
     assert measured == pytest.approx(low, rel=5e-4)       # measured 1.6e-4

@@ -15,9 +15,24 @@ evaluates it at any time (:func:`towcable_fmu.numerics.genalpha.evaluate_drive`)
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 N_CHANNELS = 7
+
+
+def knot_times(marks: np.ndarray, spacing: float) -> np.ndarray:
+    """Knot times [s] through the increasing ``marks`` [s], no farther apart than ``spacing`` [s].
+
+    Each interval between two marks is cut into equal pieces; the marks themselves are
+    knots (the quintic pieces then follow any motion a solver step of ``spacing`` resolves).
+    """
+    pieces = [marks[:1]]
+    for a, b in zip(marks[:-1], marks[1:]):
+        n = max(1, math.ceil((b - a) / spacing - 1e-9))
+        pieces.append(np.linspace(a, b, n + 1)[1:])
+    return np.concatenate(pieces)
 
 
 def knot_drive(times: np.ndarray, ships: np.ndarray, setpoints: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -419,11 +419,7 @@ class Simulation:
         The winch set-point of a compensating scene is computed at the knots, with the
         measured sheave angle (rigorous algorithms) of the current state.
         """
-        pieces = [marks[:1]]
-        for a, b in zip(marks[:-1], marks[1:]):
-            n = max(1, math.ceil((b - a) / self.options.h_max - 1e-9))
-            pieces.append(np.linspace(a, b, n + 1)[1:])
-        times = np.concatenate(pieces)
+        times = drive_poly.knot_times(marks, self.options.h_max)
         ships = self.motion.evaluate_many(times)
         if self.compensation is not None:
             # the measured sheave angle (rigorous algorithms) is that at the start of the interval

@@ -190,21 +190,32 @@ def draped(node_arc: np.ndarray, start: np.ndarray, center: np.ndarray, radius: 
         Nodal positions and unit slopes (frame of the arguments).
     """
     p = np.asarray(start, dtype=float)
-    c = np.asarray(center, dtype=float)
+    c = np.array([center[0], p[1], center[2]], dtype=float)
     u = np.asarray(departure, dtype=float)
     u = u / np.linalg.norm(u)
+    increasing = p[0] < c[0]  # coming from -X: over the top towards +X
+    a0, touch = _touch_point(p, c, radius, increasing, "the start of a draped cable lies inside the pulley")
+    return _lay(node_arc, [("line", p, touch), ("arc", c, radius, a0, _leave_angle(u, increasing))], u)
+
+
+def _touch_point(p: np.ndarray, c: np.ndarray, radius: float, increasing: bool, inside: str) -> tuple:
+    """Where the upper tangent from ``p`` meets the circle (centre ``c`` at p's Y, centreline
+    radius ``radius`` [m], XZ plane) when the cable goes over the top towards +X
+    (``increasing``) or towards -X: its angle from +Z towards +X [rad] and the point [m].
+
+    Raises
+    ------
+    ValueError
+        With the message ``inside`` when ``p`` lies inside the circle.
+    """
     w = np.array([p[0] - c[0], p[2] - c[2]])
     dist = float(np.hypot(*w))
     if dist <= radius:
-        raise ValueError("the start of a draped cable lies inside the pulley")
-    increasing = w[0] < 0.0  # coming from -X: over the top towards +X
+        raise ValueError(inside)
     spread = float(np.arccos(radius / dist))
     psi_w = float(np.arctan2(w[0], w[1]))
     a0 = psi_w + spread if increasing else psi_w - spread
-    touch = c + radius * np.array([np.sin(a0), 0.0, np.cos(a0)])
-    touch[1] = p[1]
-    a1 = _leave_angle(u, increasing)
-    return _lay(node_arc, [("line", p, touch), ("arc", np.array([c[0], p[1], c[2]]), radius, a0, a1)], u)
+    return a0, c + radius * np.array([np.sin(a0), 0.0, np.cos(a0)])
 
 
 def over_pulleys(node_arc: np.ndarray, start: np.ndarray, centers: list[np.ndarray], radii: list[float],
@@ -237,12 +248,7 @@ def over_pulleys(node_arc: np.ndarray, start: np.ndarray, centers: list[np.ndarr
     u = np.asarray(departure, dtype=float)
     u = u / np.linalg.norm(u)
     cs = [np.array([c[0], p[1], c[2]], dtype=float) for c in centers]
-    w = np.array([p[0] - cs[0][0], p[2] - cs[0][2]])
-    dist = float(np.hypot(*w))
-    if dist <= radii[0]:
-        raise ValueError("the start of a draped cable lies inside the first pulley")
-    a0 = float(np.arctan2(w[0], w[1])) + float(np.arccos(radii[0] / dist))
-    touch = cs[0] + radii[0] * np.array([np.sin(a0), 0.0, np.cos(a0)])
+    a0, touch = _touch_point(p, cs[0], radii[0], True, "the start of a draped cable lies inside the first pulley")
     pieces: list = [("line", p, touch)]
     angle = a0
     for c1, r1, c2, r2 in zip(cs[:-1], radii[:-1], cs[1:], radii[1:]):

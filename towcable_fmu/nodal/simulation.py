@@ -45,6 +45,10 @@ def _checked_ship(ship: np.ndarray) -> np.ndarray:
     return ship
 
 
+#: Names of the integrator's state arrays in :meth:`NodalSimulation.get_state`.
+_STATE_FIELDS = ("q", "v", "x", "acc", "clock", "stats")
+
+
 class NodalSimulation:
     """One nodal-position cable (with its lumped towed body) in time.
 
@@ -84,11 +88,7 @@ class NodalSimulation:
 
     def _drive(self, marks: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Drive table of the scene's ship motion through ``marks`` [s], knots <= one step apart."""
-        pieces = [marks[:1]]
-        for a, b in zip(marks[:-1], marks[1:]):
-            k = max(1, math.ceil((b - a) / self.scene.solver.time_step - 1e-9))
-            pieces.append(np.linspace(a, b, k + 1)[1:])
-        times = np.concatenate(pieces)
+        times = drive_poly.knot_times(marks, self.scene.solver.time_step)
         return drive_poly.knot_drive(times, self.motion.evaluate_many(times), np.zeros((times.size, 2)))
 
     @property
@@ -177,7 +177,7 @@ class NodalSimulation:
         if not (math.isfinite(dt) and dt > 0.0):
             raise SceneError("dt", dt, "a finite step > 0 s")
         ship = _checked_ship(ship)
-        saved = self.get_state()
+        saved = [x.copy() for x in self._state_arrays()]
         s = self.scene.solver
         t0 = self.time
         values = np.zeros((1, _N_VALUES))
@@ -186,15 +186,20 @@ class NodalSimulation:
                                     s.max_newton_iterations, self.q, self.v, self.x, self.acc, self.clock,
                                     self.stats, np.array([t0 + dt]), *drive, values)
         if reached < 1:
-            self.set_state(saved)
+            for dst, src in zip(self._state_arrays(), saved):
+                dst[:] = src
             raise SolverError(f"the {s.integrator} integrator could not advance from t = {t0:.6g} s by {dt:.6g} s")
         return dict(zip(self.names, values[0, :len(self.names)].tolist()))
 
     def get_state(self) -> dict[str, Any]:
         """The complete integrator state as JSON-able data (lists and floats)."""
-        return {"q": self.q.tolist(), "v": self.v.tolist(), "x": self.x.tolist(), "acc": self.acc.tolist(),
-                "clock": self.clock.tolist(), "stats": self.stats.tolist(), "statics": dict(self._statics),
-                "initialized": self._initialized, "n_coordinates": int(self.q.size)}
+        data: dict[str, Any] = {name: x.tolist() for name, x in zip(_STATE_FIELDS, self._state_arrays())}
+        data.update(statics=dict(self._statics), initialized=self._initialized, n_coordinates=int(self.q.size))
+        return data
+
+    def _state_arrays(self) -> tuple[np.ndarray, ...]:
+        """The integrator's state arrays, in the order of ``_STATE_FIELDS``."""
+        return self.q, self.v, self.x, self.acc, self.clock, self.stats
 
     def set_state(self, data: Mapping[str, Any]) -> None:
         """Restore a state from :meth:`get_state`; the run then continues bit-identically.
@@ -207,8 +212,8 @@ class NodalSimulation:
         if int(data.get("n_coordinates", -1)) != self.q.size:
             raise SceneError("state.n_coordinates", data.get("n_coordinates"),
                              f"{self.q.size} (the state belongs to a different mesh)")
-        for name in ("q", "v", "x", "acc", "clock", "stats"):
-            getattr(self, name)[:] = np.asarray(data[name], dtype=getattr(self, name).dtype)
+        for name, dst in zip(_STATE_FIELDS, self._state_arrays()):
+            dst[:] = np.asarray(data[name], dtype=dst.dtype)
         self._statics = dict(data["statics"])
         self._initialized = bool(data["initialized"])
 
