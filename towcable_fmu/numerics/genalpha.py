@@ -15,10 +15,16 @@ enforced at t_{n+1}, so forces need no mid-point evaluation.
 
 Newton iterates on ``a_{n+1}`` with the iteration matrix ``M + gamma' C + beta' K``
 (``gamma' = h gamma (1-af)/(1-am)``, ``beta' = h^2 beta (1-af)/(1-am)``), factorised
-once and reused over steps while convergence is fast (modified Newton); it is
-refreshed after a step that needed four or more iterations or contracted slowly
-(estimated remaining-error factor above 1), when the step size changes by more than
-5 %, or when it is too old.
+and reused over steps while it stays accurate (modified Newton). It is refreshed at
+the start of a step when it is too old, when the step size changed by more than 5 %,
+or when the last step's contraction rate theta exceeded ``THETA_REUSE`` (the rule of
+Hairer & Wanner's RADAU5 for costly Jacobians). A matrix from an earlier step that
+contracts worse than ``THETA_REFRESH`` is refreshed inside the step at the current
+iterate, and the following steps factorise afresh without trying a reuse: 1, 3, 7, 15
+steps after consecutive misses (at most ``MAX_BACKOFF``), halved by every successful
+reuse. A cable sliding over a rolling sheave changes its contact set every step and
+settles at a fresh matrix per step; a cable without contact keeps one for a hundred.
+
 Convergence test (Hairer & Wanner): the estimated remaining error
 ``theta/(1-theta) * |dq|`` is below ``newton_tol``, with the contraction rate theta of
 the previous step used on the first iteration; ``|dq|`` is the largest correction
@@ -68,6 +74,15 @@ JAC_H = 1
 JAC_AGE = 2
 JAC_T = 3
 JAC_ETA = 4
+JAC_SKIP = 5
+JAC_BACKOFF = 6
+
+#: contraction rate above which a matrix from an earlier step is refreshed within the step
+THETA_REFRESH = 0.5
+#: contraction rate above which a matrix is not reused at the next step
+THETA_REUSE = 0.1
+#: longest run of steps that factorise afresh after reused matrices kept failing
+MAX_BACKOFF = 16.0
 
 
 class SolverOptions(NamedTuple):
@@ -95,7 +110,7 @@ class IntegratorState(NamedTuple):
     abar: np.ndarray     #: (nf,) auxiliary accelerations of the scheme
     phi: np.ndarray      #: (4,) winch rotation, rate, acceleration, auxiliary acceleration
     clock: np.ndarray    #: (4,) time [s], current step size [s], last error estimate [-], accepted steps since the last step-size cut
-    jac: np.ndarray      #: (5,) valid, step size, age, time, Newton contraction estimate
+    jac: np.ndarray      #: (7,) valid, step size, age, time, Newton contraction estimate, steps left to factorise afresh, backoff length
     jac_q: np.ndarray    #: (nf,) coordinates at which the Jacobian was evaluated
     jac_v: np.ndarray    #: (nf,) velocities at which the Jacobian was evaluated
     jac_ship: np.ndarray  #: (3, 6) ship state at which the Jacobian was evaluated
@@ -119,7 +134,7 @@ class Workspace(NamedTuple):
 def new_state(nf: int) -> IntegratorState:
     """A zero integrator state for ``nf`` coordinates."""
     return IntegratorState(np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(4), np.zeros(4),
-                           np.zeros(5), np.zeros(nf), np.zeros(nf), np.zeros((3, 6)),
+                           np.zeros(7), np.zeros(nf), np.zeros(nf), np.zeros((3, 6)),
                            np.zeros(len(STAT_NAMES), dtype=np.int64))
 
 
@@ -329,12 +344,16 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
         st.abar[k] = bar_new
     apply_prescribed(model.att_index, model.att_kind, model.att_vec, model.att_radius, ws.ship, st.phi,
                      st.q, st.v, st.a)
-    if (st.jac[JAC_VALID] == 0.0 or abs(h / st.jac[JAC_H] - 1.0) > 0.05
-            or st.jac[JAC_AGE] >= opt.jac_max_age):
+    reused = not (st.jac[JAC_VALID] == 0.0 or abs(h / st.jac[JAC_H] - 1.0) > 0.05
+                  or st.jac[JAC_AGE] >= opt.jac_max_age or st.jac[JAC_SKIP] > 0.0)
+    if not reused:
+        st.jac[JAC_SKIP] = max(st.jac[JAC_SKIP] - 1.0, 0.0)
         if not _factorize(model, opt, st, ws, t1, h, am, af, gamma, beta):
             return 1
     eta = max(st.jac[JAC_ETA], 1e-4) ** 0.8
     prev = 0.0
+    theta = 0.0  # contraction rate of the current factorisation (0: not measured yet)
+    since = 0    # iterations with the current factorisation
     converged = False
     for it in range(opt.max_iter):
         residual(model, st.q, st.v, st.a, t1, ws.ship, ws.r)
@@ -361,21 +380,38 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
                 dnorm = e
         if not math.isfinite(dnorm):
             break
-        if it > 0:
+        if since > 0:
             theta = dnorm / max(prev, 1e-300)
-            if theta >= 1.0:
-                break
-            eta = theta / (1.0 - theta)
-        if eta * dnorm <= opt.newton_tol or dnorm <= 1e-3 * opt.newton_tol:
+            if theta < 1.0:
+                eta = theta / (1.0 - theta)
+        if theta < 1.0 and (eta * dnorm <= opt.newton_tol or dnorm <= 1e-3 * opt.newton_tol):
             converged = True
             break
+        if theta > THETA_REFRESH:
+            if st.jac[JAC_AGE] > 0.0:
+                # a matrix from an earlier step contracts slowly: refresh it here and go on,
+                # and factorise afresh for the next steps (twice as many as after the last miss)
+                st.jac[JAC_BACKOFF] = min(2.0 * st.jac[JAC_BACKOFF] + 1.0, MAX_BACKOFF)
+                st.jac[JAC_SKIP] = st.jac[JAC_BACKOFF]
+                reused = False
+                if not _factorize(model, opt, st, ws, t1, h, am, af, gamma, beta):
+                    return 1
+                since = 0
+                theta = 0.0
+                eta = 1.0
+                continue
+            if theta >= 1.0:
+                break  # diverging with a fresh matrix: the caller retries with a smaller step
         prev = dnorm
+        since += 1
     if not converged:
         return 1
     st.jac[JAC_ETA] = eta
     st.jac[JAC_AGE] += 1.0
-    if it >= 3 or eta > 1.0:
-        # slow contraction: the iteration matrix has gone stale; refresh it for the next step
+    if reused:
+        st.jac[JAC_BACKOFF] = math.floor(0.5 * st.jac[JAC_BACKOFF])
+    if theta > THETA_REUSE:
+        # the matrix is not accurate enough to be reused: refresh it at the next step
         st.jac[JAC_AGE] = opt.jac_max_age
     # local error estimate (Zienkiewicz-Xie), weighted max norm over free coordinates
     c = h * h * abs(beta - 1.0 / 6.0)
