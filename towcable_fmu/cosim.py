@@ -195,9 +195,17 @@ class FmuInstance:
         """All Real outputs (contract order) in one fmi2GetReal."""
         return np.array(self.fmu.getReal(self.real_output_vrs))
 
-    def real_block(self, vrs: Sequence[int]) -> "RealBlock":
+    def real_block(self, vrs: Sequence[int]) -> "ValueBlock":
         """Buffers for reading or writing the same Real variables at every step."""
-        return RealBlock(self.fmu, vrs)
+        return ValueBlock(self.fmu, vrs, "Real")
+
+    def boolean_block(self, vrs: Sequence[int]) -> "ValueBlock":
+        """Buffers for reading the same Boolean variables at every step."""
+        return ValueBlock(self.fmu, vrs, "Boolean")
+
+    def do_step(self, t: float, dt: float) -> None:
+        """fmi2DoStep from ``t`` by ``dt`` [s]; raises fmpy's ``FMICallException`` above warning."""
+        _checked("fmi2DoStep", self.fmu.dll.fmi2DoStep(self.fmu.component, t, dt, 1))
 
     def free(self) -> None:
         """fmi2Terminate, fmi2FreeInstance, remove the extracted files."""
@@ -212,32 +220,48 @@ class FmuInstance:
         shutil.rmtree(self.unzipdir, ignore_errors=True)
 
 
-class RealBlock:
-    """Preallocated value-reference and value arrays for one repeated fmi2GetReal/fmi2SetReal.
+def _checked(function: str, status: int) -> None:
+    """Raise fmpy's ``FMICallException`` for a status above fmi2Warning, as fmpy's own calls do."""
+    if status > 1:
+        from fmpy.fmi1 import FMICallException
+
+        raise FMICallException(function=function, status=status)
+
+
+class ValueBlock:
+    """Preallocated value-reference and value arrays for one repeated get/set of Real or
+    Boolean variables.
 
     ``values`` is a numpy view of the value buffer: :meth:`read` fills it, :meth:`write`
-    sends it. The calls go through fmpy's checked function table (a status above
-    warning raises ``FMICallException``) without building ctypes arrays each time.
+    sends it. The calls go straight to the ctypes functions fmpy configured on the FMU's
+    library (``fmu.dll``), without fmpy's Python wrappers or building ctypes arrays each
+    time; a status above warning raises ``FMICallException`` as fmpy does. (fmpy's call
+    logger, which this master does not use, does not see these calls.)
     """
 
-    def __init__(self, fmu, vrs: Sequence[int]) -> None:
-        from fmpy.fmi2 import fmi2Real, fmi2ValueReference
+    def __init__(self, fmu, vrs: Sequence[int], kind: str = "Real") -> None:
+        from fmpy.fmi2 import fmi2Boolean, fmi2Real, fmi2ValueReference
 
+        ctype, dtype = {"Real": (fmi2Real, np.float64), "Boolean": (fmi2Boolean, np.int32)}[kind]
         self._fmu = fmu
         self._n = len(vrs)
         self._vr = (fmi2ValueReference * self._n)(*vrs)
-        self._buffer = (fmi2Real * self._n)()
-        self.values = np.frombuffer(self._buffer, dtype=np.float64) if self._n else np.empty(0)
+        self._buffer = (ctype * self._n)()
+        self._get = getattr(fmu.dll, f"fmi2Get{kind}")
+        self._set = getattr(fmu.dll, f"fmi2Set{kind}")
+        self._names = (f"fmi2Get{kind}", f"fmi2Set{kind}")
+        self.values = np.frombuffer(self._buffer, dtype=dtype) if self._n else np.empty(0, dtype=dtype)
 
     def read(self) -> np.ndarray:
-        """fmi2GetReal into :attr:`values` (returned; overwritten by the next read)."""
-        self._fmu.fmi2GetReal(self._fmu.component, self._vr, self._n, self._buffer)
+        """Get the variables into :attr:`values` (returned; overwritten by the next read)."""
+        if self._n:
+            _checked(self._names[0], self._get(self._fmu.component, self._vr, self._n, self._buffer))
         return self.values
 
     def write(self) -> None:
-        """fmi2SetReal of :attr:`values`."""
+        """Set the variables to :attr:`values`."""
         if self._n:
-            self._fmu.fmi2SetReal(self._fmu.component, self._vr, self._n, self._buffer)
+            _checked(self._names[1], self._set(self._fmu.component, self._vr, self._n, self._buffer))
 
 
 # ---------------------------------------------------------------------------- configuration
@@ -488,7 +512,7 @@ class _Exchange:
 
     def __init__(self, inst: Mapping[str, FmuInstance], order: Sequence[str]) -> None:
         self.outputs = {name: inst[name].real_block(inst[name].real_output_vrs) for name in order}
-        self.inputs: dict[str, RealBlock] = {}
+        self.inputs: dict[str, ValueBlock] = {}
         self.gathers: dict[str, list[tuple[str, np.ndarray, np.ndarray]]] = {}
         for name in order:
             vrs, sources = _routes(inst, name)
@@ -548,6 +572,7 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
                                  if not contract.signals()[n].diagnostic], dtype=np.intp) for name in order}
     rec = {name: np.empty((n_rows, rec_index[name].size)) for name in order}
     rec_bool = np.empty((n_rows, len(cable.bool_outputs)))
+    bool_block = cable.boolean_block(cable.bool_output_vrs)
     model_index = {name: inst[name].real_outputs.index("model_wall_time") for name in order}
     model_start = {name: float(out[name].values[model_index[name]]) for name in ("ShipMotion", "TowCable")}
     model_start["HeaveCompensation"] = float(np.asarray(ctrl.fmu.getReal([ctrl.variables["model_wall_time"]
@@ -562,7 +587,7 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
         for name in order:
             rec[name][row] = out[name].values[rec_index[name]]
         if cable.bool_outputs:
-            rec_bool[row] = cable.fmu.getBoolean(cable.bool_output_vrs)
+            rec_bool[row] = bool_block.read()
         row += 1
 
     def control() -> None:
@@ -578,7 +603,7 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
         mark = len(fmu.messages)
         a = time.perf_counter()
         try:
-            fmu.fmu.doStep(t, dt)
+            fmu.do_step(t, dt)
         except FMICallException as exc:
             raise CosimError(f"{fmu.name} refused the step from t = {t:.6g} s by {dt:.6g} s ({exc}): "
                              + (fmu.log_text(mark) or "(no message)")) from None

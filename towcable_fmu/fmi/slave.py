@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import functools
 import math
+import operator
 import time
 import traceback
 from typing import Any, Callable, ClassVar
@@ -51,17 +52,23 @@ def ship_signal_names() -> tuple[str, ...]:
 
 
 def ship_state(values: dict[str, Any], names: tuple[str, ...] | None = None) -> np.ndarray:
-    """Ship state (3, 6) from named values; signals that are not given are 0."""
+    """Ship state (3, 6) from named values; signals that are not given (not in ``names``) are 0."""
+    index, getter = _ship_slots(ship_signal_names() if names is None else tuple(names))
+    if index.size == 18:
+        return np.array(getter(values), dtype=float).reshape(3, 6)
     state = np.zeros(18)
-    for k, name in _ship_slots(ship_signal_names() if names is None else tuple(names)):
-        state[k] = values[name]
+    if getter is not None:
+        state[index] = getter(values)
     return state.reshape(3, 6)
 
 
 @functools.cache
-def _ship_slots(names: tuple[str, ...]) -> tuple[tuple[int, str], ...]:
-    """(position in the ship state, name) of the given ship signals."""
-    return tuple((k, name) for k, name in enumerate(ship_signal_names()) if name in names)
+def _ship_slots(names: tuple[str, ...]) -> tuple[np.ndarray, operator.itemgetter | None]:
+    """Positions in the ship state of the given ship signals, and a getter of their values
+    (one C-level lookup of all names; None if no ship signal is given)."""
+    given = [name for name in ship_signal_names() if name in names]
+    index = np.array([ship_signal_names().index(name) for name in given], dtype=np.intp)
+    return index, operator.itemgetter(*given) if given else None
 
 
 def parse_overrides(text: str) -> list[tuple[str, Any]]:
@@ -121,11 +128,20 @@ class ContractSlave(Fmi2Slave):
         self._real_outputs = [v.name for v in spec.outputs if v.type == "Real"]
         self._output_slots = [(v.name, _CAST[v.type], v.type == "Real") for v in spec.outputs if not v.diagnostic]
         self._real_input_names = [v.name for v in spec.inputs if v.type == "Real"]
+        # the per-step paths look names up in C (itemgetter) and test finiteness in C (map)
+        real_slots = [name for name, _, real in self._output_slots if real]
+        self._real_slot_names = tuple(real_slots)
+        self._real_slot_getter = operator.itemgetter(*real_slots) if len(real_slots) > 1 else None
+        self._bool_slots = [(name, cast) for name, cast, real in self._output_slots if not real]
+        self._real_input_getter = (operator.itemgetter(*self._real_input_names)
+                                   if len(self._real_input_names) > 1 else None)
         # block access without pythonfmu's per-variable dispatch: value reference -> name
         self._readable = {kind.__name__: {vr: var.name for vr, var in self.vars.items() if isinstance(var, kind)}
                           for kind in (Real, Boolean)}
         self._real_inputs = {vr: var.name for vr, var in self.vars.items()
                              if isinstance(var, Real) and var.causality == Fmi2Causality.input}
+        self._name_cache: dict[tuple[int, tuple[int, ...]], tuple[str, ...]] = {}
+        self._getters: dict[tuple[str, ...], operator.itemgetter] = {}
 
     # ------------------------------------------------------------ registration
     def _scalar(self, var: contract.Variable):
@@ -242,13 +258,37 @@ class ContractSlave(Fmi2Slave):
     def terminate(self) -> None:
         pass
 
+    def _names_of(self, table: dict[int, str], vrs) -> tuple[str, ...] | None:
+        """Names of the value references ``vrs`` in ``table``, None if one is not there.
+
+        A master sends the same block of references at every step: the answer is cached
+        by the block (and the block's getter with it, see :meth:`_read`).
+        """
+        key = (id(table), tuple(vrs))
+        names = self._name_cache.get(key)
+        if names is None:
+            try:
+                names = tuple(table[vr] for vr in key[1])
+            except KeyError:
+                return None
+            if len(self._name_cache) < 64:
+                self._name_cache[key] = names
+        return names
+
     def _read(self, kind: str, vrs) -> list | None:
         """Values of ``vrs`` if all are variables of type ``kind``, else None."""
-        names, values = self._readable[kind], self.values
-        try:
-            return [values[names[vr]] for vr in vrs]
-        except KeyError:
+        names = self._names_of(self._readable[kind], vrs)
+        if names is None:
             return None
+        if len(names) == 1:
+            return [self.values[names[0]]]
+        return list(self._getter(names)(self.values))
+
+    def _getter(self, names: tuple[str, ...]) -> operator.itemgetter:
+        getter = self._getters.get(names)
+        if getter is None:
+            getter = self._getters[names] = operator.itemgetter(*names)
+        return getter
 
     def get_real(self, vrs):
         fast = self._read("Real", vrs)
@@ -270,13 +310,11 @@ class ContractSlave(Fmi2Slave):
         return self._guard("getString", lambda: super(ContractSlave, self).get_string(vrs), default=[""] * len(vrs))
 
     def set_real(self, vrs, values):
-        names = self._real_inputs
-        try:  # inputs only: no per-variable setter needed
-            pairs = [(names[vr], float(value)) for vr, value in zip(vrs, values)]
-        except KeyError:  # parameters, outputs or unknown references: pythonfmu's checks and messages
+        names = self._names_of(self._real_inputs, vrs)
+        if names is None:  # parameters, outputs or unknown references: pythonfmu's checks and messages
             self._guard("setReal", lambda: super(ContractSlave, self).set_real(vrs, values))
-        else:
-            self.values.update(pairs)
+        else:  # inputs only: no per-variable setter needed
+            self.values.update(zip(names, map(float, values)))
         self._guard("inputs", self._inputs_changed)
 
     def set_integer(self, vrs, values):
@@ -341,6 +379,8 @@ class ContractSlave(Fmi2Slave):
     def non_finite_inputs(self) -> list[str]:
         """Names of Real inputs that are NaN or infinite."""
         values = self.values
+        if self._real_input_getter is not None and all(map(math.isfinite, self._real_input_getter(values))):
+            return []
         return [name for name in self._real_input_names if not math.isfinite(values[name])]
 
     def set_outputs(self, outputs: dict[str, Any]) -> list[str]:
@@ -349,6 +389,18 @@ class ContractSlave(Fmi2Slave):
         Returns the names not provided. Raises ValueError (nothing copied) if a value is
         not finite.
         """
+        if self._real_slot_getter is not None:
+            try:
+                reals = self._real_slot_getter(outputs)
+            except KeyError:  # some outputs not provided: the general path below
+                pass
+            else:
+                if all(map(math.isfinite, reals)):
+                    bools = [(name, cast(outputs[name])) for name, cast in self._bool_slots if name in outputs]
+                    if len(bools) == len(self._bool_slots):
+                        self.values.update(zip(self._real_slot_names, map(float, reals)))
+                        self.values.update(bools)
+                        return []
         missing, new = [], {}
         for name, cast, real in self._output_slots:
             value = outputs.get(name)
