@@ -409,7 +409,9 @@ class SolverSettings:
                              doc="Newton stops when the estimated remaining correction (positions relative "
                                  "to the element length, slopes absolute) is below this; the tension error "
                                  "it allows is about EA times this")
-    max_newton_iterations: int = spec(8, unit="-", ge=1, le=100, doc="iterations before the Jacobian is refreshed")
+    max_newton_iterations: int = spec(8, unit="-", ge=1, le=100,
+                                      doc="Newton iterations a step may take before it is retried (with a fresh "
+                                          "Jacobian, then half the step)")
     jacobian_max_age: int = spec(100, unit="-", ge=1, doc="steps a factorised Jacobian may be reused")
     min_time_step: float = spec(1e-7, unit="s", gt=0.0, doc="a step that fails below this size is an error")
 
