@@ -522,15 +522,23 @@ class _Exchange:
                 src_idx, dst_idx = by_source.setdefault(src, ([], []))
                 src_idx.append(index)
                 dst_idx.append(k)
-            self.gathers[name] = [(src, np.array(a, dtype=np.intp), np.array(b, dtype=np.intp))
+            self.gathers[name] = [(self.outputs[src].values, _as_slice(a), _as_slice(b))
                                   for src, (a, b) in by_source.items()]
 
     def feed(self, target: str) -> None:
         """Copy the connected outputs into the target's inputs and set them (one fmi2SetReal)."""
         block = self.inputs[target]
-        for src, src_idx, dst_idx in self.gathers[target]:
-            block.values[dst_idx] = self.outputs[src].values[src_idx]
+        values = block.values
+        for source, src_idx, dst_idx in self.gathers[target]:
+            values[dst_idx] = source[src_idx]
         block.write()
+
+
+def _as_slice(index: list[int]) -> slice | np.ndarray:
+    """A run of consecutive indices as a slice (a view, cheaper than fancy indexing), else an index array."""
+    if index and index == list(range(index[0], index[0] + len(index))):
+        return slice(index[0], index[0] + len(index))
+    return np.array(index, dtype=np.intp)
 
 
 def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], params: dict, geometry: dict,
@@ -570,7 +578,7 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
     rec_time = np.empty(n_rows)
     rec_index = {name: np.array([i for i, n in enumerate(inst[name].real_outputs)
                                  if not contract.signals()[n].diagnostic], dtype=np.intp) for name in order}
-    rec = {name: np.empty((n_rows, rec_index[name].size)) for name in order}
+    rec = {name: np.empty((n_rows, out[name].values.size)) for name in order}  # all columns; picked at the end
     rec_bool = np.empty((n_rows, len(cable.bool_outputs)))
     bool_block = cable.boolean_block(cable.bool_output_vrs)
     model_index = {name: inst[name].real_outputs.index("model_wall_time") for name in order}
@@ -585,7 +593,7 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
         nonlocal row
         rec_time[row] = t
         for name in order:
-            rec[name][row] = out[name].values[rec_index[name]]
+            rec[name][row] = out[name].values
         if cable.bool_outputs:
             rec_bool[row] = bool_block.read()
         row += 1
@@ -597,9 +605,9 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
         out["HeaveCompensation"].read()
         io_time += time.perf_counter() - a
 
-    def do_step(fmu: FmuInstance, t: float, dt: float) -> None:
-        from fmpy.fmi1 import FMICallException
+    from fmpy.fmi1 import FMICallException
 
+    def do_step(fmu: FmuInstance, t: float, dt: float) -> None:
         mark = len(fmu.messages)
         a = time.perf_counter()
         try:
@@ -645,7 +653,7 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
         timing[f"model.{name}"] = model[name]
     series = {"time": rec_time[:row].copy()}
     for name in order:
-        columns = dict(zip((inst[name].real_outputs[i] for i in rec_index[name]), rec[name][:row].T))
+        columns = dict(zip((inst[name].real_outputs[i] for i in rec_index[name]), rec[name][:row, rec_index[name]].T))
         if name == "TowCable":
             columns.update(zip(cable.bool_outputs, rec_bool[:row].T))
         for var in inst[name].spec.outputs:
