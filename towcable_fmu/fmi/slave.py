@@ -53,22 +53,28 @@ def ship_signal_names() -> tuple[str, ...]:
 
 def ship_state(values: dict[str, Any], names: tuple[str, ...] | None = None) -> np.ndarray:
     """Ship state (3, 6) from named values; signals that are not given (not in ``names``) are 0."""
-    index, getter = _ship_slots(ship_signal_names() if names is None else tuple(names))
+    index, given = _ship_slots(ship_signal_names() if names is None else tuple(names))
     if index.size == 18:
-        return np.array(getter(values), dtype=float).reshape(3, 6)
+        return np.array(values_getter(given)(values), dtype=float).reshape(3, 6)
     state = np.zeros(18)
-    if getter is not None:
-        state[index] = getter(values)
+    state[index] = values_getter(given)(values)
     return state.reshape(3, 6)
 
 
 @functools.cache
-def _ship_slots(names: tuple[str, ...]) -> tuple[np.ndarray, operator.itemgetter | None]:
-    """Positions in the ship state of the given ship signals, and a getter of their values
-    (one C-level lookup of all names; None if no ship signal is given)."""
-    given = [name for name in ship_signal_names() if name in names]
-    index = np.array([ship_signal_names().index(name) for name in given], dtype=np.intp)
-    return index, operator.itemgetter(*given) if given else None
+def _ship_slots(names: tuple[str, ...]) -> tuple[np.ndarray, tuple[str, ...]]:
+    """Positions in the ship state of the given ship signals, and their names."""
+    given = tuple(name for name in ship_signal_names() if name in names)
+    return np.array([ship_signal_names().index(name) for name in given], dtype=np.intp), given
+
+
+@functools.cache
+def values_getter(names: tuple[str, ...]) -> Callable[[Any], tuple]:
+    """A function returning the values of ``names`` in a mapping as a tuple (any number of
+    names; one C-level ``itemgetter`` lookup for two or more)."""
+    if len(names) >= 2:
+        return operator.itemgetter(*names)
+    return lambda mapping: tuple(mapping[name] for name in names)
 
 
 def parse_overrides(text: str) -> list[tuple[str, Any]]:
@@ -127,21 +133,16 @@ class ContractSlave(Fmi2Slave):
             self.register_variable(self._scalar(var), nested=False)
         self._real_outputs = [v.name for v in spec.outputs if v.type == "Real"]
         self._output_slots = [(v.name, _CAST[v.type], v.type == "Real") for v in spec.outputs if not v.diagnostic]
-        self._real_input_names = [v.name for v in spec.inputs if v.type == "Real"]
+        self._real_input_names = tuple(v.name for v in spec.inputs if v.type == "Real")
         # the per-step paths look names up in C (itemgetter) and test finiteness in C (map)
-        real_slots = [name for name, _, real in self._output_slots if real]
-        self._real_slot_names = tuple(real_slots)
-        self._real_slot_getter = operator.itemgetter(*real_slots) if len(real_slots) > 1 else None
+        self._real_slot_names = tuple(name for name, _, real in self._output_slots if real)
         self._bool_slots = [(name, cast) for name, cast, real in self._output_slots if not real]
-        self._real_input_getter = (operator.itemgetter(*self._real_input_names)
-                                   if len(self._real_input_names) > 1 else None)
         # block access without pythonfmu's per-variable dispatch: value reference -> name
         self._readable = {kind.__name__: {vr: var.name for vr, var in self.vars.items() if isinstance(var, kind)}
                           for kind in (Real, Boolean)}
         self._real_inputs = {vr: var.name for vr, var in self.vars.items()
                              if isinstance(var, Real) and var.causality == Fmi2Causality.input}
         self._name_cache: dict[tuple[int, tuple[int, ...]], tuple[str, ...]] = {}
-        self._getters: dict[tuple[str, ...], operator.itemgetter] = {}
 
     # ------------------------------------------------------------ registration
     def _scalar(self, var: contract.Variable):
@@ -262,7 +263,7 @@ class ContractSlave(Fmi2Slave):
         """Names of the value references ``vrs`` in ``table``, None if one is not there.
 
         A master sends the same block of references at every step: the answer is cached
-        by the block (and the block's getter with it, see :meth:`_read`).
+        by the block (and :func:`values_getter` caches the block's getter).
         """
         key = (id(table), tuple(vrs))
         names = self._name_cache.get(key)
@@ -280,15 +281,7 @@ class ContractSlave(Fmi2Slave):
         names = self._names_of(self._readable[kind], vrs)
         if names is None:
             return None
-        if len(names) == 1:
-            return [self.values[names[0]]]
-        return list(self._getter(names)(self.values))
-
-    def _getter(self, names: tuple[str, ...]) -> operator.itemgetter:
-        getter = self._getters.get(names)
-        if getter is None:
-            getter = self._getters[names] = operator.itemgetter(*names)
-        return getter
+        return list(values_getter(names)(self.values))
 
     def get_real(self, vrs):
         fast = self._read("Real", vrs)
@@ -379,7 +372,7 @@ class ContractSlave(Fmi2Slave):
     def non_finite_inputs(self) -> list[str]:
         """Names of Real inputs that are NaN or infinite."""
         values = self.values
-        if self._real_input_getter is not None and all(map(math.isfinite, self._real_input_getter(values))):
+        if all(map(math.isfinite, values_getter(self._real_input_names)(values))):
             return []
         return [name for name in self._real_input_names if not math.isfinite(values[name])]
 
@@ -389,18 +382,16 @@ class ContractSlave(Fmi2Slave):
         Returns the names not provided. Raises ValueError (nothing copied) if a value is
         not finite.
         """
-        if self._real_slot_getter is not None:
-            try:
-                reals = self._real_slot_getter(outputs)
-            except KeyError:  # some outputs not provided: the general path below
-                pass
-            else:
-                if all(map(math.isfinite, reals)):
-                    bools = [(name, cast(outputs[name])) for name, cast in self._bool_slots if name in outputs]
-                    if len(bools) == len(self._bool_slots):
-                        self.values.update(zip(self._real_slot_names, map(float, reals)))
-                        self.values.update(bools)
-                        return []
+        try:
+            reals = values_getter(self._real_slot_names)(outputs)
+            fast = (all(map(math.isfinite, reals))
+                    and all(outputs.get(name) is not None for name, _ in self._bool_slots))
+        except (KeyError, TypeError):  # an output not provided (or None): the general path below
+            fast = False
+        if fast:
+            self.values.update(zip(self._real_slot_names, map(float, reals)))
+            self.values.update((name, cast(outputs[name])) for name, cast in self._bool_slots)
+            return []
         missing, new = [], {}
         for name, cast, real in self._output_slots:
             value = outputs.get(name)

@@ -388,7 +388,7 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
             converged = True
             break
         if theta > THETA_REFRESH:
-            if st.jac[JAC_AGE] > 0.0:
+            if reused:
                 # a matrix from an earlier step contracts slowly: refresh it here and go on,
                 # and factorise afresh for the next steps (twice as many as after the last miss)
                 st.jac[JAC_BACKOFF] = min(2.0 * st.jac[JAC_BACKOFF] + 1.0, MAX_BACKOFF)
