@@ -21,7 +21,7 @@ from typing import Any
 
 from pythonfmu.enums import Fmi2Status
 
-from towcable_fmu.fmi.slave import ContractSlave, ship_state
+from towcable_fmu.fmi.slave import ContractSlave, ShipStateReader
 
 from .config import SetpointConfig
 from .setpoint import SetpointAlgorithm
@@ -48,7 +48,7 @@ class HeaveCompensation(ContractSlave):
         self.algorithm: SetpointAlgorithm | None = None
         self.bad_inputs: list[str] = []
         self._warned_fallback = False
-        self._ship_names = tuple(v.name for v in self.spec.inputs if v.name.startswith("ship."))
+        self._ship = ShipStateReader(tuple(v.name for v in self.spec.inputs if v.name.startswith("ship.")))
 
     def _build(self) -> None:
         self.algorithm = SetpointAlgorithm(setpoint_config({v.name: self.values[v.name]
@@ -58,7 +58,7 @@ class HeaveCompensation(ContractSlave):
         self.bad_inputs = [n for n in self.non_finite_inputs() if n != "sheave_angle"]
         if self.bad_inputs:
             return
-        ship = ship_state(self.values, self._ship_names)
+        ship = self._ship(self.values)
         sp = self.timed(self.algorithm.compute, ship, self.values["sheave_angle"])
         if sp.theta_fallback and not self._warned_fallback:
             self._warned_fallback = True

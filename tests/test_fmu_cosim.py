@@ -92,7 +92,9 @@ def test_timing_and_overhead_are_reported(moving):
     t = moving.timing
     assert t["steps"] == 40 and 0.0 < t["model"] < t["wall"]
     assert 0.0 < t["overhead_share"] < 1.0
-    assert t["model.TowCable"] > 0.0 and t["do_step.TowCable"] >= t["model.TowCable"]
+    parts = [t[f"model.{name}"] for name in ("ShipMotion", "HeaveCompensation", "TowCable")]
+    assert min(parts) > 0.0 and sum(parts) == pytest.approx(t["model"], rel=1e-12)
+    assert t["realtime_factor"] == pytest.approx(0.4 / t["wall"], rel=1e-12)
 
 
 def test_command_line_writes_csv_summary_and_plot(fmu_paths, tmp_path):
@@ -195,3 +197,20 @@ def test_fmpy_ssp_runs_the_ssp(ssp_file):
     assert np.all(result["HeaveCompensation.winch.phi_sp"] == contract.fmu("HeaveCompensation")
                   .variable("phi_nom").start)
     assert np.all(np.isfinite(result["TowCable.tension.top"]))
+
+
+def test_a_step_refused_mid_run_names_the_fmu_the_call_and_its_message(fmu_paths, tmp_path):
+    """The compiled loop stops at the refused step: the error names the FMU, fmi2DoStep, the
+    step's time and the FMU's own log message (a ship record that ends at 0.2 s)."""
+    from towcable_fmu.cosim import CosimError
+
+    record = tmp_path / "short.csv"
+    rows = ["t [s],vx [m/s],vy [m/s],vz [m/s],roll [deg],pitch [deg],yaw [deg]"]
+    rows += [f"{0.025 * i:.3f},0,0,{0.1 * i:.1f},0,0,0" for i in range(9)]
+    record.write_text("\n".join(rows) + "\n")
+    motion = f'type = "time_series"\nfile = "{record}"'
+    with pytest.raises(CosimError) as info:
+        cosim(fmu_paths, motion=motion, compensation="none", duration=0.5)
+    text = str(info.value)
+    assert text.startswith("ShipMotion: fmi2DoStep from t = 0.2 s by 0.01 s failed"), text
+    assert "0.21" in text and "0.2" in text  # TimeRangeError names t and the record's range

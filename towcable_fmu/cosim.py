@@ -19,7 +19,10 @@ Order at each communication point t_k (documented contract, tested):
 5. ShipMotion's and TowCable's outputs at t_{k+1} are read.
 
 Values move in blocks: per step one setReal per FMU with inputs, one getReal per FMU
-with all its Real outputs (and one getBoolean for TowCable's Boolean output).
+with all its Real outputs (and one getBoolean for TowCable's Boolean output). The
+stepping loop is compiled (:mod:`towcable_fmu.cosim_loop`): it makes these calls
+through the FMI functions' addresses, without ctypes' per-call conversions, and returns
+to Python about every 0.2 s of wall time for the progress report.
 
 Initialisation: ShipMotion leaves initialisation first (ship state at t0); TowCable is
 initialised (statics) with that ship state and the nominal set-point; then
@@ -29,8 +32,8 @@ static angle, as Westin 2018 used for the simplified algorithms).
 
 Overhead: each FMU reports ``model_wall_time``, the wall time spent in its own model
 (Simulation.step, MotionSource.evaluate, SetpointAlgorithm.compute). The FMU overhead
-is the rest of the loop's wall time (pythonfmu's C/Python layer, ctypes, the master's
-bookkeeping) as a share of the loop's wall time.
+is the rest of the loop's wall time (the slaves' Python glue around their models,
+pythonfmu's C layer, the master's loop) as a share of the loop's wall time.
 """
 
 from __future__ import annotations
@@ -48,7 +51,7 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from . import contract
+from . import contract, cosim_loop
 from .errors import TowcableError
 
 class CosimError(TowcableError, RuntimeError):
@@ -195,18 +198,6 @@ class FmuInstance:
         """All Real outputs (contract order) in one fmi2GetReal."""
         return np.array(self.fmu.getReal(self.real_output_vrs))
 
-    def real_block(self, vrs: Sequence[int]) -> "ValueBlock":
-        """Buffers for reading or writing the same Real variables at every step."""
-        return ValueBlock(self.fmu, vrs, "Real")
-
-    def boolean_block(self, vrs: Sequence[int]) -> "ValueBlock":
-        """Buffers for reading the same Boolean variables at every step."""
-        return ValueBlock(self.fmu, vrs, "Boolean")
-
-    def do_step(self, t: float, dt: float) -> None:
-        """fmi2DoStep from ``t`` by ``dt`` [s]; raises fmpy's ``FMICallException`` above warning."""
-        _checked("fmi2DoStep", self.fmu.dll.fmi2DoStep(self.fmu.component, t, dt, 1))
-
     def free(self) -> None:
         """fmi2Terminate, fmi2FreeInstance, remove the extracted files."""
         if self.active:
@@ -218,50 +209,6 @@ class FmuInstance:
             self.fmu.freeInstance()
             _LOG_TARGETS.pop(self._environment, None)
         shutil.rmtree(self.unzipdir, ignore_errors=True)
-
-
-def _checked(function: str, status: int) -> None:
-    """Raise fmpy's ``FMICallException`` for a status above fmi2Warning, as fmpy's own calls do."""
-    if status > 1:
-        from fmpy.fmi1 import FMICallException
-
-        raise FMICallException(function=function, status=status)
-
-
-class ValueBlock:
-    """Preallocated value-reference and value arrays for one repeated get/set of Real or
-    Boolean variables.
-
-    ``values`` is a numpy view of the value buffer: :meth:`read` fills it, :meth:`write`
-    sends it. The calls go straight to the ctypes functions fmpy configured on the FMU's
-    library (``fmu.dll``), without fmpy's Python wrappers or building ctypes arrays each
-    time; a status above warning raises ``FMICallException`` as fmpy does. (fmpy's call
-    logger, which this master does not use, does not see these calls.)
-    """
-
-    def __init__(self, fmu, vrs: Sequence[int], kind: str = "Real") -> None:
-        from fmpy.fmi2 import fmi2Boolean, fmi2Real, fmi2ValueReference
-
-        ctype, dtype = {"Real": (fmi2Real, np.float64), "Boolean": (fmi2Boolean, np.int32)}[kind]
-        self._fmu = fmu
-        self._n = len(vrs)
-        self._vr = (fmi2ValueReference * self._n)(*vrs)
-        self._buffer = (ctype * self._n)()
-        self._get = getattr(fmu.dll, f"fmi2Get{kind}")
-        self._set = getattr(fmu.dll, f"fmi2Set{kind}")
-        self._names = (f"fmi2Get{kind}", f"fmi2Set{kind}")
-        self.values = np.frombuffer(self._buffer, dtype=dtype) if self._n else np.empty(0, dtype=dtype)
-
-    def read(self) -> np.ndarray:
-        """Get the variables into :attr:`values` (returned; overwritten by the next read)."""
-        if self._n:
-            _checked(self._names[0], self._get(self._fmu.component, self._vr, self._n, self._buffer))
-        return self.values
-
-    def write(self) -> None:
-        """Set the variables to :attr:`values`."""
-        if self._n:
-            _checked(self._names[1], self._set(self._fmu.component, self._vr, self._n, self._buffer))
 
 
 # ---------------------------------------------------------------------------- configuration
@@ -430,13 +377,14 @@ def run_cosim(config: CosimConfig, progress: Callable[[float, float], None] | No
     CosimResult
         ``timing`` holds ``wall`` (the stepping loop), ``model`` (sum of the FMUs' own
         model time in the loop), ``overhead_share`` = 1 - model / wall, per-FMU
-        ``do_step.<FMU>``, ``model.<FMU>``, ``get_set`` (all getReal/setReal/getBoolean),
-        ``initialisation`` and ``realtime_factor`` (simulated / wall seconds).
+        ``model.<FMU>``, ``initialisation``, ``steps``, ``communication_step`` and
+        ``realtime_factor`` (simulated / wall seconds).
 
     Raises
     ------
     CosimError
-        An FMU failed to initialise or refused a step (message with the FMU's log).
+        An FMU failed to initialise or refused a call (message: the FMU, the call, the
+        time and the FMU's log).
     SceneError
         Invalid configuration.
     """
@@ -504,62 +452,113 @@ def _routes(inst: Mapping[str, FmuInstance], target: str) -> tuple[list[int], li
 
 
 class _Exchange:
-    """The connections of the system as block copies between preallocated buffers.
+    """The connections of the system as flat buffers, and the compiled loop that moves them.
 
-    ``outputs[name]`` holds the FMU's Real outputs as last read; :meth:`feed` gathers a
-    target's inputs from them and sends them in one fmi2SetReal.
+    ``outputs`` holds every FMU's Real outputs as last read (:meth:`outputs_of` gives one
+    FMU's part, a view), ``inputs`` every FMU's connected Real inputs; the layout is that
+    of :mod:`towcable_fmu.cosim_loop`. :meth:`feed` and :meth:`read` make single
+    exchanges (initialisation), :meth:`advance` runs communication steps.
     """
 
-    def __init__(self, inst: Mapping[str, FmuInstance], order: Sequence[str]) -> None:
-        self.outputs = {name: inst[name].real_block(inst[name].real_output_vrs) for name in order}
-        self.inputs: dict[str, ValueBlock] = {}
-        self.gathers: dict[str, list[tuple[str, np.ndarray, np.ndarray]]] = {}
+    def __init__(self, inst: Mapping[str, FmuInstance], order: Sequence[str], feedthrough: Sequence[str],
+                 bool_fmu: str) -> None:
+        self.inst = inst
+        self.order = list(order)
+        self.index = {name: i for i, name in enumerate(order)}
+        functions = [cosim_loop.fmi_functions(inst[name].fmu.dll, inst[name].fmu.component) for name in order]
+        self.components = np.array([f.component for f in functions], dtype=np.intp)
+        self.do_steps = tuple(f.do_step for f in functions)
+        self.get_reals = tuple(f.get_real for f in functions)
+        self.set_reals = tuple(f.set_real for f in functions)
+        self.get_boolean = functions[self.index[bool_fmu]].get_boolean
+        self.bool_fmu = self.index[bool_fmu]
+        self.bool_vr = cosim_loop.index_array(inst[bool_fmu].bool_output_vrs, np.uint32)
+        self.booleans = np.zeros(self.bool_vr.size, dtype=np.int32)
+        self.out_off = cosim_loop.index_array(np.cumsum([0] + [len(inst[n].real_outputs) for n in order]))
+        self.out_vr = cosim_loop.index_array([vr for n in order for vr in inst[n].real_output_vrs], np.uint32)
+        self.outputs = np.zeros(self.out_vr.size)
+        in_vr, in_src, sizes = [], [], []
         for name in order:
             vrs, sources = _routes(inst, name)
-            self.inputs[name] = inst[name].real_block(vrs)
-            by_source: dict[str, tuple[list[int], list[int]]] = {}
-            for k, (src, index) in enumerate(sources):
-                src_idx, dst_idx = by_source.setdefault(src, ([], []))
-                src_idx.append(index)
-                dst_idx.append(k)
-            self.gathers[name] = [(self.outputs[src].values, _as_slice(a), _as_slice(b))
-                                  for src, (a, b) in by_source.items()]
+            in_vr += vrs
+            in_src += [self.out_off[self.index[src]] + k for src, k in sources]
+            sizes.append(len(vrs))
+        self.in_off = cosim_loop.index_array(np.cumsum([0] + sizes))
+        self.in_vr = cosim_loop.index_array(in_vr, np.uint32)
+        self.in_src = cosim_loop.index_array(in_src)
+        self.inputs = np.zeros(self.in_vr.size)
+        self.feedthrough = np.array([name in feedthrough for name in order])
+
+    def outputs_of(self, name: str) -> np.ndarray:
+        """FMU ``name``'s Real outputs as last read (a view of :attr:`outputs`, contract order)."""
+        i = self.index[name]
+        return self.outputs[self.out_off[i]:self.out_off[i + 1]]
+
+    def _status(self, call: int, status: int, mark: Mapping[str, int], what: str) -> None:
+        if status > 1:
+            fmu = self.inst[self.order[call % 100]]
+            raise CosimError(f"{fmu.name}: {cosim_loop.CALL_NAMES[call // 100]} {what}failed (status {status}): "
+                             + (fmu.log_text(mark[fmu.name]) or "(no message)"))
+
+    def _marks(self) -> dict[str, int]:
+        return {name: len(fmu.messages) for name, fmu in self.inst.items()}
 
     def feed(self, target: str) -> None:
         """Copy the connected outputs into the target's inputs and set them (one fmi2SetReal)."""
-        block = self.inputs[target]
-        values = block.values
-        for source, src_idx, dst_idx in self.gathers[target]:
-            values[dst_idx] = source[src_idx]
-        block.write()
+        i, mark = self.index[target], self._marks()
+        status = cosim_loop.feed(i, self.components, self.set_reals, self.in_vr, self.in_off, self.in_src,
+                                 self.inputs, self.outputs)
+        self._status(cosim_loop.SET_REAL * 100 + i, status, mark, "")
 
+    def read(self, name: str) -> np.ndarray:
+        """Get FMU ``name``'s Real outputs (one fmi2GetReal); returns :meth:`outputs_of`."""
+        i, mark = self.index[name], self._marks()
+        status = cosim_loop.read(i, self.components, self.get_reals, self.out_vr, self.out_off, self.outputs)
+        self._status(cosim_loop.GET_REAL * 100 + i, status, mark, "")
+        return self.outputs_of(name)
 
-def _as_slice(index: list[int]) -> slice | np.ndarray:
-    """A run of consecutive indices as a slice (a view, cheaper than fancy indexing), else an index array."""
-    if index and index == list(range(index[0], index[0] + len(index))):
-        return slice(index[0], index[0] + len(index))
-    return np.array(index, dtype=np.intp)
+    def advance(self, k_start: int, k_stop: int, finish: bool, t0: float, h: float, stride: int, row: int,
+                rec_time: np.ndarray, rec_outputs: np.ndarray, rec_booleans: np.ndarray) -> int:
+        """Communication steps ``k_start`` to ``k_stop - 1`` (see :func:`towcable_fmu.cosim_loop.advance`);
+        returns the next free row.
+
+        Raises
+        ------
+        CosimError
+            An FMU refused a call; the message names the call and carries the FMU's log.
+        """
+        mark = self._marks()
+        k, row, call, status = cosim_loop.advance(
+            k_start, k_stop, finish, t0, h, stride, row, self.components, self.do_steps, self.get_reals,
+            self.set_reals, self.get_boolean, self.out_vr, self.out_off, self.outputs, self.in_vr, self.in_off,
+            self.in_src, self.inputs, self.feedthrough, self.bool_fmu, self.bool_vr, self.booleans, rec_time,
+            rec_outputs, rec_booleans)
+        if call:
+            t = t0 + k * h
+            what = f"from t = {t:.6g} s by {t0 + (k + 1) * h - t:.6g} s " if call // 100 == cosim_loop.DO_STEP \
+                else f"at t = {t:.6g} s "
+            self._status(call, status, mark, what)
+        return row
 
 
 def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], params: dict, geometry: dict,
          n_steps: int, stride: int, progress, t_init: float) -> CosimResult:
     t0, h = config.start_time, config.step
-    ship, ctrl, cable = inst["ShipMotion"], inst["HeaveCompensation"], inst["TowCable"]
-    io = _Exchange(inst, order)
-    out = io.outputs
+    ctrl, cable = inst["HeaveCompensation"], inst["TowCable"]
+    io = _Exchange(inst, order, feedthrough=("HeaveCompensation",), bool_fmu="TowCable")
 
     # ---- initialisation (see the module docstring)
-    ship.exit_initialization()
-    out["ShipMotion"].read()
-    phi_sp_index = ctrl.real_outputs.index("winch.phi_sp")
-    out["HeaveCompensation"].values[:] = 0.0  # the nominal set-point until the controller runs
-    out["HeaveCompensation"].values[phi_sp_index] = geometry["phi_nom"]
+    inst["ShipMotion"].exit_initialization()
+    io.read("ShipMotion")
+    setpoint = io.outputs_of("HeaveCompensation")
+    setpoint[:] = 0.0  # the nominal set-point until the controller runs
+    setpoint[ctrl.real_outputs.index("winch.phi_sp")] = geometry["phi_nom"]
     io.feed("TowCable")
     cable.exit_initialization()
-    out["TowCable"].read()
+    io.read("TowCable")
     theta_source = "given"
     if "theta_nom" not in params["HeaveCompensation"]:
-        values = dict(zip(cable.real_outputs, out["TowCable"].values))
+        values = dict(zip(cable.real_outputs, io.outputs_of("TowCable")))
         angle_name = "sheave_angle"  # departure from the sheave, or the drum without a sheave
         theta = float(values[angle_name])
         if not (0.0 <= theta < 0.5 * math.pi):
@@ -571,91 +570,44 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
                 "source": {**geometry["source"], "theta_nom": theta_source}}
     io.feed("HeaveCompensation")
     ctrl.exit_initialization()
+    io.read("HeaveCompensation")
     init_wall = time.perf_counter() - t_init
 
-    # ---- the loop
+    # ---- the loop: compiled (towcable_fmu.cosim_loop), in chunks of about 0.2 s wall for the progress
     n_rows = n_steps // stride + 1
     rec_time = np.empty(n_rows)
-    rec_index = {name: np.array([i for i, n in enumerate(inst[name].real_outputs)
-                                 if not contract.signals()[n].diagnostic], dtype=np.intp) for name in order}
-    rec = {name: np.empty((n_rows, out[name].values.size)) for name in order}  # all columns; picked at the end
-    rec_bool = np.empty((n_rows, len(cable.bool_outputs)))
-    bool_block = cable.boolean_block(cable.bool_output_vrs)
-    model_index = {name: inst[name].real_outputs.index("model_wall_time") for name in order}
-    model_start = {name: float(out[name].values[model_index[name]]) for name in ("ShipMotion", "TowCable")}
-    model_start["HeaveCompensation"] = float(np.asarray(ctrl.fmu.getReal([ctrl.variables["model_wall_time"]
-                                                                          .valueReference]))[0])
-    step_time = {name: 0.0 for name in order}
-    io_time = 0.0
-    row = 0
-
-    def record(t: float) -> None:
-        nonlocal row
-        rec_time[row] = t
-        for name in order:
-            rec[name][row] = out[name].values
-        if cable.bool_outputs:
-            rec_bool[row] = bool_block.read()
-        row += 1
-
-    def control() -> None:
-        nonlocal io_time
-        a = time.perf_counter()
-        io.feed("HeaveCompensation")
-        out["HeaveCompensation"].read()
-        io_time += time.perf_counter() - a
-
-    from fmpy.fmi1 import FMICallException
-
-    def do_step(fmu: FmuInstance, t: float, dt: float) -> None:
-        mark = len(fmu.messages)
-        a = time.perf_counter()
-        try:
-            fmu.do_step(t, dt)
-        except FMICallException as exc:
-            raise CosimError(f"{fmu.name} refused the step from t = {t:.6g} s by {dt:.6g} s ({exc}): "
-                             + (fmu.log_text(mark) or "(no message)")) from None
-        step_time[fmu.name] += time.perf_counter() - a
-
+    rec_outputs = np.empty((n_rows, io.outputs.size))  # all columns; picked at the end
+    rec_bool = np.empty((n_rows, io.booleans.size), dtype=np.int32)
+    model_slot = {name: io.out_off[io.index[name]] + inst[name].real_outputs.index("model_wall_time")
+                  for name in order}
+    model_start = {name: float(io.outputs[slot]) for name, slot in model_slot.items()}
     loop_start = time.perf_counter()
-    t = t0
-    for k in range(n_steps):
-        t = t0 + k * h
-        t_next = t0 + (k + 1) * h
-        dt = t_next - t
-        control()
-        if k % stride == 0:
-            record(t)
+    k, row, chunk = 0, 0, 1
+    while k < n_steps:
+        stop = min(n_steps, k + chunk)
         a = time.perf_counter()
-        io.feed("TowCable")
-        io_time += time.perf_counter() - a
-        for name in order:
-            do_step(inst[name], t, dt)
-        a = time.perf_counter()
-        out["ShipMotion"].read()
-        out["TowCable"].read()
-        io_time += time.perf_counter() - a
+        row = io.advance(k, stop, stop == n_steps, t0, h, stride, row, rec_time, rec_outputs, rec_bool)
+        per_step = (time.perf_counter() - a) / (stop - k)
+        chunk = int(min(max(1, 0.2 / per_step if per_step > 0 else 1000), 1000))
+        k = stop
         if progress is not None:
-            progress(t_next, t0 + n_steps * h)
-    t_end = t0 + n_steps * h
-    control()
-    if n_steps % stride == 0:
-        record(t_end)
+            progress(t0 + k * h, t0 + n_steps * h)
     wall = time.perf_counter() - loop_start
+    t_end = t0 + n_steps * h
 
-    model = {name: float(out[name].values[model_index[name]]) - model_start[name] for name in order}
-    timing = {"wall": wall, "initialisation": init_wall, "get_set": io_time, "model": sum(model.values()),
+    model = {name: float(io.outputs[slot]) - model_start[name] for name, slot in model_slot.items()}
+    timing = {"wall": wall, "initialisation": init_wall, "model": sum(model.values()),
               "overhead_share": 1.0 - sum(model.values()) / wall if wall > 0 else float("nan"),
               "realtime_factor": (t_end - t0) / wall if wall > 0 else float("inf"),
               "steps": n_steps, "communication_step": h}
     for name in order:
-        timing[f"do_step.{name}"] = step_time[name]
         timing[f"model.{name}"] = model[name]
     series = {"time": rec_time[:row].copy()}
     for name in order:
-        columns = dict(zip((inst[name].real_outputs[i] for i in rec_index[name]), rec[name][:row, rec_index[name]].T))
+        i = io.index[name]
+        columns = dict(zip(inst[name].real_outputs, rec_outputs[:row, io.out_off[i]:io.out_off[i + 1]].T))
         if name == "TowCable":
-            columns.update(zip(cable.bool_outputs, rec_bool[:row].T))
+            columns.update(zip(cable.bool_outputs, rec_bool[:row].T.astype(float)))
         for var in inst[name].spec.outputs:
             if not var.diagnostic:
                 series[var.name] = np.ascontiguousarray(columns[var.name])

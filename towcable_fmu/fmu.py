@@ -37,7 +37,7 @@ from pythonfmu.enums import Fmi2Status
 
 from .errors import SceneError
 from .models import model_kind, simulation_for
-from .fmi.slave import ContractSlave, parse_overrides, ship_state
+from .fmi.slave import ContractSlave, ShipStateReader, parse_overrides
 from .scene import load_scene
 
 #: Numeric parameters that override a scene key, with the value that means "keep the scene's".
@@ -63,6 +63,7 @@ class TowCable(ContractSlave):
         self.sim = None
         self.missing: list[str] = []
         self._built_from: tuple | None = None
+        self._ship = ShipStateReader()
 
     def _parameters(self) -> dict[str, Any]:
         return {v.name: self.values[v.name] for v in self.spec.parameters}
@@ -77,7 +78,7 @@ class TowCable(ContractSlave):
         if bad:
             raise SceneError(bad[0], self.values[bad[0]], "a finite number (input "
                              + ", ".join(f"{n} = {self.values[n]!r}" for n in bad) + ")")
-        return ship_state(self.values), (self.values["winch.phi_sp"], self.values["winch.phi_sp_rate"])
+        return self._ship(self.values), (self.values["winch.phi_sp"], self.values["winch.phi_sp_rate"])
 
     def _initialize(self) -> None:
         ship, setpoint = self._inputs()

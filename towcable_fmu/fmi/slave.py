@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import functools
 import math
+import numbers
 import operator
 import time
 import traceback
@@ -51,21 +52,33 @@ def ship_signal_names() -> tuple[str, ...]:
     return names
 
 
-def ship_state(values: dict[str, Any], names: tuple[str, ...] | None = None) -> np.ndarray:
-    """Ship state (3, 6) from named values; signals that are not given (not in ``names``) are 0."""
-    index, given = _ship_slots(ship_signal_names() if names is None else tuple(names))
-    if index.size == 18:
-        return np.array(values_getter(given)(values), dtype=float).reshape(3, 6)
-    state = np.zeros(18)
-    state[index] = values_getter(given)(values)
-    return state.reshape(3, 6)
+class ShipStateReader:
+    """Builds the ship state (3, 6) from named values (a slave's ``values``).
 
+    Parameters
+    ----------
+    names
+        The ship signals the values hold (default: all 18); the others are 0 in the state.
+    """
 
-@functools.cache
-def _ship_slots(names: tuple[str, ...]) -> tuple[np.ndarray, tuple[str, ...]]:
-    """Positions in the ship state of the given ship signals, and their names."""
-    given = tuple(name for name in ship_signal_names() if name in names)
-    return np.array([ship_signal_names().index(name) for name in given], dtype=np.intp), given
+    def __init__(self, names: tuple[str, ...] | None = None) -> None:
+        all_names = ship_signal_names()
+        given = all_names if names is None else tuple(name for name in all_names if name in names)
+        self._get = values_getter(given)
+        # the usual cases (all signals, or positions and rates without accelerations) are a
+        # prefix of the state: padded with zeros in one array call
+        self._prefix = given == all_names[:len(given)]
+        self._padding = (0.0,) * (18 - len(given))
+        self._index = np.array([all_names.index(name) for name in given], dtype=np.intp)
+
+    def __call__(self, values: dict[str, Any]) -> np.ndarray:
+        """The ship state: rows position/attitude [m, rad], their rates [m/s, rad/s] and
+        accelerations [m/s^2, rad/s^2]; columns x, y, z, roll, pitch, yaw."""
+        if self._prefix:
+            return np.array(self._get(values) + self._padding, dtype=float).reshape(3, 6)
+        state = np.zeros(18)
+        state[self._index] = self._get(values)
+        return state.reshape(3, 6)
 
 
 @functools.cache
@@ -131,18 +144,17 @@ class ContractSlave(Fmi2Slave):
         for var in spec.variables:
             self.values[var.name] = var.start if var.start is not None else _CAST[var.type](0)
             self.register_variable(self._scalar(var), nested=False)
-        self._real_outputs = [v.name for v in spec.outputs if v.type == "Real"]
         self._output_slots = [(v.name, _CAST[v.type], v.type == "Real") for v in spec.outputs if not v.diagnostic]
         self._real_input_names = tuple(v.name for v in spec.inputs if v.type == "Real")
         # the per-step paths look names up in C (itemgetter) and test finiteness in C (map)
-        self._real_slot_names = tuple(name for name, _, real in self._output_slots if real)
-        self._bool_slots = [(name, cast) for name, cast, real in self._output_slots if not real]
+        self._real_input_values = values_getter(self._real_input_names)
+        self._output_copy: _OutputCopy | None = None
         # block access without pythonfmu's per-variable dispatch: value reference -> name
         self._readable = {kind.__name__: {vr: var.name for vr, var in self.vars.items() if isinstance(var, kind)}
                           for kind in (Real, Boolean)}
         self._real_inputs = {vr: var.name for vr, var in self.vars.items()
                              if isinstance(var, Real) and var.causality == Fmi2Causality.input}
-        self._name_cache: dict[tuple[int, tuple[int, ...]], tuple[str, ...]] = {}
+        self._last_block: dict[int, tuple[list[int], tuple[str, ...]]] = {}
 
     # ------------------------------------------------------------ registration
     def _scalar(self, var: contract.Variable):
@@ -262,18 +274,18 @@ class ContractSlave(Fmi2Slave):
     def _names_of(self, table: dict[int, str], vrs) -> tuple[str, ...] | None:
         """Names of the value references ``vrs`` in ``table``, None if one is not there.
 
-        A master sends the same block of references at every step: the answer is cached
-        by the block (and :func:`values_getter` caches the block's getter).
+        A master sends the same block of references at every step: the last block asked
+        of each table and its names are kept, and a repeated block is recognised by one
+        list comparison (:func:`values_getter` caches the block's getter).
         """
-        key = (id(table), tuple(vrs))
-        names = self._name_cache.get(key)
-        if names is None:
-            try:
-                names = tuple(table[vr] for vr in key[1])
-            except KeyError:
-                return None
-            if len(self._name_cache) < 64:
-                self._name_cache[key] = names
+        last = self._last_block.get(id(table))
+        if last is not None and last[0] == vrs:
+            return last[1]
+        try:
+            names = tuple(table[vr] for vr in vrs)
+        except KeyError:
+            return None
+        self._last_block[id(table)] = (list(vrs), names)
         return names
 
     def _read(self, kind: str, vrs) -> list | None:
@@ -372,36 +384,54 @@ class ContractSlave(Fmi2Slave):
     def non_finite_inputs(self) -> list[str]:
         """Names of Real inputs that are NaN or infinite."""
         values = self.values
-        if all(map(math.isfinite, values_getter(self._real_input_names)(values))):
+        if all(map(math.isfinite, self._real_input_values(values))):
             return []
         return [name for name in self._real_input_names if not math.isfinite(values[name])]
 
     def set_outputs(self, outputs: dict[str, Any]) -> list[str]:
-        """Copy outputs by name (names the model does not provide become 0 / false).
+        """Copy outputs by name (names the model does not provide, or gives as None, become 0 / false).
 
-        Returns the names not provided. Raises ValueError (nothing copied) if a value is
-        not finite.
+        Returns the names not provided. Raises ValueError (nothing copied) if a Real value
+        is not a finite number.
         """
+        copy = self._output_copy
+        if copy is None or outputs.keys() != copy.keys:  # the model provides other names than last time
+            copy = self._output_copy = _OutputCopy(self._output_slots, outputs)
+        reals = copy.reals(outputs)
         try:
-            reals = values_getter(self._real_slot_names)(outputs)
-            fast = (all(map(math.isfinite, reals))
-                    and all(outputs.get(name) is not None for name, _ in self._bool_slots))
-        except (KeyError, TypeError):  # an output not provided (or None): the general path below
-            fast = False
-        if fast:
-            self.values.update(zip(self._real_slot_names, map(float, reals)))
-            self.values.update((name, cast(outputs[name])) for name, cast in self._bool_slots)
-            return []
-        missing, new = [], {}
-        for name, cast, real in self._output_slots:
-            value = outputs.get(name)
-            if value is None:
-                new[name] = cast(0)
-                missing.append(name)
-                continue
-            value = cast(value)
-            if real and not math.isfinite(value):
-                raise ValueError(f"output '{name}' = {value} is not finite")
-            new[name] = value
-        self.values.update(new)
-        return missing
+            finite = all(map(math.isfinite, reals))
+        except TypeError:
+            finite = False
+        if not finite:
+            for name, value in zip(copy.real_names, reals):
+                if not (isinstance(value, numbers.Real) and math.isfinite(value)):
+                    raise ValueError(f"output '{name}' = {value!r} is not a finite number")
+        values = self.values
+        values.update(zip(copy.real_names, map(float, reals)))
+        if copy.others:
+            values.update((name, cast(outputs[name])) for name, cast in copy.others)
+        if copy.zeros:
+            values.update(copy.zeros)
+        return list(copy.missing)
+
+
+class _OutputCopy:
+    """How :meth:`ContractSlave.set_outputs` copies outputs that provide one set of names
+    (worked out once: a model provides the same names at every step).
+
+    Parameters
+    ----------
+    slots
+        The FMU's outputs: (name, cast, is Real).
+    outputs
+        The model's outputs (name -> value; None counts as not provided).
+    """
+
+    def __init__(self, slots: list[tuple[str, Callable[[Any], Any], bool]], outputs: dict[str, Any]) -> None:
+        # with a None value the key set differs from ``outputs.keys()``: rebuilt at every call
+        self.keys = frozenset(name for name, value in outputs.items() if value is not None)
+        self.real_names = tuple(name for name, _, real in slots if real and name in self.keys)
+        self.reals = values_getter(self.real_names)
+        self.others = tuple((name, cast) for name, cast, real in slots if not real and name in self.keys)
+        self.zeros = {name: cast(0) for name, cast, _ in slots if name not in self.keys}
+        self.missing = tuple(self.zeros)

@@ -1,0 +1,152 @@
+"""The co-simulation master's stepping loop as one compiled kernel.
+
+The master (:mod:`towcable_fmu.cosim`) spends per communication step nine FMI calls
+(set, get, step) and the copies between the FMUs' value buffers. Made from Python,
+each FMI call goes through ctypes (argument conversion, the GIL released and taken
+back) and the copies through numpy's indexing; together that was as much time as the
+FMUs' own glue. :func:`advance` makes the same calls, in the same order, straight
+from compiled code: the FMI functions are called through their addresses
+(:func:`fmi_functions`) with the GIL held, so an FMU that runs Python (pythonfmu)
+enters it at once.
+
+Layout of the buffers (``n`` FMUs in the contract's order; ``out_off``/``in_off`` have
+``n + 1`` entries, FMU ``i`` owns the range ``off[i]:off[i + 1]``):
+
+* ``outputs``: every FMU's Real outputs, as last read (``out_vr`` their value references);
+* ``inputs``: every FMU's connected Real inputs (``in_vr``); input ``j`` takes the value
+  ``outputs[in_src[j]]``;
+* ``feedthrough[i]``: FMU ``i`` is an algebraic block (direct feedthrough): at each
+  communication point it is fed and its outputs read *before* the row is recorded and
+  before the others are fed; the others are fed after recording, and read after all
+  have stepped. (The module docstring of :mod:`towcable_fmu.cosim` gives the order.)
+"""
+
+from __future__ import annotations
+
+import ctypes
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+#: ``fmi2Status (*)(fmi2Component, const fmi2ValueReference*, size_t, void*)``: fmi2Get/SetReal/Boolean.
+VALUES_PROTOTYPE = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t,
+                                    ctypes.c_void_p)
+#: ``fmi2Status (*)(fmi2Component, fmi2Real, fmi2Real, fmi2Boolean)``: fmi2DoStep.
+STEP_PROTOTYPE = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int)
+
+#: FMI call kinds in :attr:`Stop.call` (failing call = kind * 100 + FMU index).
+SET_REAL, GET_REAL, DO_STEP, GET_BOOLEAN = 1, 2, 3, 4
+CALL_NAMES = {SET_REAL: "fmi2SetReal", GET_REAL: "fmi2GetReal", DO_STEP: "fmi2DoStep", GET_BOOLEAN: "fmi2GetBoolean"}
+
+
+class FmiFunctions(NamedTuple):
+    """The FMI functions of one FMU instance, callable from compiled code."""
+
+    component: int
+    do_step: object
+    get_real: object
+    set_real: object
+    get_boolean: object
+
+
+def fmi_functions(dll: ctypes.CDLL, component: int) -> FmiFunctions:
+    """The instance's fmi2DoStep, fmi2GetReal, fmi2SetReal and fmi2GetBoolean by address.
+
+    Parameters
+    ----------
+    dll
+        The FMU's loaded library (fmpy's ``FMU2Slave.dll``).
+    component
+        The instance (``fmi2Component`` as an integer address).
+    """
+    def address(name: str) -> int:
+        return ctypes.cast(getattr(dll, name), ctypes.c_void_p).value
+
+    return FmiFunctions(int(component), STEP_PROTOTYPE(address("fmi2DoStep")),
+                        VALUES_PROTOTYPE(address("fmi2GetReal")), VALUES_PROTOTYPE(address("fmi2SetReal")),
+                        VALUES_PROTOTYPE(address("fmi2GetBoolean")))
+
+
+@njit(cache=True)
+def feed(i, components, set_reals, in_vr, in_off, in_src, inputs, outputs):
+    """Gather FMU ``i``'s inputs from the outputs and set them; the status (0 = nothing to set)."""
+    a, b = in_off[i], in_off[i + 1]
+    if b == a:
+        return 0
+    for j in range(a, b):
+        inputs[j] = outputs[in_src[j]]
+    return set_reals[i](components[i], in_vr[a:].ctypes.data, b - a, inputs[a:].ctypes.data)
+
+
+@njit(cache=True)
+def read(i, components, get_reals, out_vr, out_off, outputs):
+    """Get FMU ``i``'s Real outputs into ``outputs``; the status."""
+    a, b = out_off[i], out_off[i + 1]
+    if b == a:
+        return 0
+    return get_reals[i](components[i], out_vr[a:].ctypes.data, b - a, outputs[a:].ctypes.data)
+
+
+@njit(cache=True)
+def advance(k_start, k_stop, finish, t0, h, stride, row, components, do_steps, get_reals, set_reals, get_boolean,
+            out_vr, out_off, outputs, in_vr, in_off, in_src, inputs, feedthrough, bool_fmu, bool_vr, booleans,
+            rec_time, rec_outputs, rec_booleans):
+    """Communication steps ``k_start`` to ``k_stop - 1`` (and, if ``finish``, the
+    communication point ``k_stop`` without a step: the last row).
+
+    Step ``k`` goes from ``t0 + k h`` to ``t0 + (k + 1) h`` [s]. At every communication
+    point: feed and read the feedthrough FMUs; if ``k % stride == 0`` record row
+    ``row`` (time, all outputs, FMU ``bool_fmu``'s Boolean outputs); feed the others;
+    step all in order; read the others.
+
+    Returns
+    -------
+    (k, row, call, status)
+        ``k``: ``k_stop`` if all went well, else the communication point of the failed
+        call; ``row``: the next free row; ``call``: 0, or the failing call (kind * 100 +
+        FMU index, see :data:`CALL_NAMES`) with its fmi2Status ``status``.
+    """
+    n = components.size
+    for k in range(k_start, k_stop + 1 if finish else k_stop):
+        t = t0 + k * h
+        for i in range(n):
+            if feedthrough[i]:
+                status = feed(i, components, set_reals, in_vr, in_off, in_src, inputs, outputs)
+                if status > 1:
+                    return k, row, SET_REAL * 100 + i, status
+                status = read(i, components, get_reals, out_vr, out_off, outputs)
+                if status > 1:
+                    return k, row, GET_REAL * 100 + i, status
+        if k % stride == 0:
+            rec_time[row] = t
+            rec_outputs[row, :] = outputs
+            if booleans.size:
+                status = get_boolean(components[bool_fmu], bool_vr.ctypes.data, bool_vr.size, booleans.ctypes.data)
+                if status > 1:
+                    return k, row, GET_BOOLEAN * 100 + bool_fmu, status
+                rec_booleans[row, :] = booleans
+            row += 1
+        if k == k_stop:
+            break
+        for i in range(n):
+            if not feedthrough[i]:
+                status = feed(i, components, set_reals, in_vr, in_off, in_src, inputs, outputs)
+                if status > 1:
+                    return k, row, SET_REAL * 100 + i, status
+        dt = (t0 + (k + 1) * h) - t
+        for i in range(n):
+            status = do_steps[i](components[i], t, dt, 1)
+            if status > 1:
+                return k, row, DO_STEP * 100 + i, status
+        for i in range(n):
+            if not feedthrough[i]:
+                status = read(i, components, get_reals, out_vr, out_off, outputs)
+                if status > 1:
+                    return k, row, GET_REAL * 100 + i, status
+    return k_stop, row, 0, 0
+
+
+def index_array(values, dtype=np.intp) -> np.ndarray:
+    """A contiguous array of ``values`` (helper for the buffers above)."""
+    return np.ascontiguousarray(np.asarray(values, dtype=dtype))
