@@ -472,10 +472,10 @@ class _Exchange:
         self.set_reals = tuple(f.set_real for f in functions)
         self.get_boolean = functions[self.index[bool_fmu]].get_boolean
         self.bool_fmu = self.index[bool_fmu]
-        self.bool_vr = cosim_loop.index_array(inst[bool_fmu].bool_output_vrs, np.uint32)
+        self.bool_vr = np.ascontiguousarray(inst[bool_fmu].bool_output_vrs, dtype=np.uint32)
         self.booleans = np.zeros(self.bool_vr.size, dtype=np.int32)
-        self.out_off = cosim_loop.index_array(np.cumsum([0] + [len(inst[n].real_outputs) for n in order]))
-        self.out_vr = cosim_loop.index_array([vr for n in order for vr in inst[n].real_output_vrs], np.uint32)
+        self.out_off = np.cumsum([0] + [len(inst[n].real_outputs) for n in order], dtype=np.intp)
+        self.out_vr = np.ascontiguousarray([vr for n in order for vr in inst[n].real_output_vrs], dtype=np.uint32)
         self.outputs = np.zeros(self.out_vr.size)
         in_vr, in_src, sizes = [], [], []
         for name in order:
@@ -483,9 +483,9 @@ class _Exchange:
             in_vr += vrs
             in_src += [self.out_off[self.index[src]] + k for src, k in sources]
             sizes.append(len(vrs))
-        self.in_off = cosim_loop.index_array(np.cumsum([0] + sizes))
-        self.in_vr = cosim_loop.index_array(in_vr, np.uint32)
-        self.in_src = cosim_loop.index_array(in_src)
+        self.in_off = np.cumsum([0] + sizes, dtype=np.intp)
+        self.in_vr = np.ascontiguousarray(in_vr, dtype=np.uint32)
+        self.in_src = np.ascontiguousarray(in_src, dtype=np.intp)
         self.inputs = np.zeros(self.in_vr.size)
         self.feedthrough = np.array([name in feedthrough for name in order])
 

@@ -26,7 +26,6 @@ from __future__ import annotations
 import ctypes
 from typing import NamedTuple
 
-import numpy as np
 from numba import njit
 
 #: ``fmi2Status (*)(fmi2Component, const fmi2ValueReference*, size_t, void*)``: fmi2Get/SetReal/Boolean.
@@ -100,6 +99,23 @@ def advance(k_start, k_stop, finish, t0, h, stride, row, components, do_steps, g
     ``row`` (time, all outputs, FMU ``bool_fmu``'s Boolean outputs); feed the others;
     step all in order; read the others.
 
+    Parameters
+    ----------
+    k_start, k_stop, finish
+        Communication steps to make, and whether to end with the exchange at ``k_stop``.
+    t0, h
+        Start time and communication step [s].
+    stride, row
+        Record every ``stride``-th communication point, from row ``row`` on.
+    components, do_steps, get_reals, set_reals
+        Per FMU (contract order): the instance and its functions (:func:`fmi_functions`).
+    get_boolean, bool_fmu, bool_vr, booleans
+        The fmi2GetBoolean of FMU ``bool_fmu``, the value references it reads and their buffer.
+    out_vr, out_off, outputs, in_vr, in_off, in_src, inputs, feedthrough
+        The buffers of the module docstring.
+    rec_time, rec_outputs, rec_booleans
+        The records: time [s], ``outputs`` and ``booleans`` by row.
+
     Returns
     -------
     (k, row, call, status)
@@ -146,7 +162,3 @@ def advance(k_start, k_stop, finish, t0, h, stride, row, components, do_steps, g
                     return k, row, GET_REAL * 100 + i, status
     return k_stop, row, 0, 0
 
-
-def index_array(values, dtype=np.intp) -> np.ndarray:
-    """A contiguous array of ``values`` (helper for the buffers above)."""
-    return np.ascontiguousarray(np.asarray(values, dtype=dtype))
