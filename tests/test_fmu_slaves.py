@@ -261,8 +261,9 @@ def test_master_reports_a_failed_initialisation(fmu_paths):
     from towcable_fmu.cosim import CosimError
 
     fmu = open_fmu(fmu_paths, "TowCable", {"scene": "no_such_scene"})
-    with pytest.raises(CosimError, match="no_such_scene"):
+    with pytest.raises(CosimError, match="no_such_scene") as info:
         fmu.exit_initialization()
+    assert str(info.value).count("initialisation failed") == 1, str(info.value)
     fmu.free()
 
 

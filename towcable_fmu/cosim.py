@@ -192,7 +192,8 @@ class FmuInstance:
         self.call("exitInitializationMode", self.fmu.exitInitializationMode)
         errors = self.errors_since(mark)
         if errors:
-            raise CosimError(f"{self.name}: initialisation failed: " + "\n".join(errors))
+            prefix, text = f"{self.name}: initialisation failed", "\n".join(errors)
+            raise CosimError(text if text.startswith(prefix) else f"{prefix}: {text}")  # our slaves say it
 
     def get_outputs(self) -> np.ndarray:
         """All Real outputs (contract order) in one fmi2GetReal."""
