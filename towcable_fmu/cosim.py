@@ -607,8 +607,8 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
     for name in order:
         i = io.index[name]
         columns = dict(zip(inst[name].real_outputs, rec_outputs[:row, io.out_off[i]:io.out_off[i + 1]].T))
-        if name == "TowCable":
-            columns.update(zip(cable.bool_outputs, rec_bool[:row].T.astype(float)))
+        if i == io.bool_fmu:
+            columns.update(zip(inst[name].bool_outputs, rec_bool[:row].T.astype(float)))
         for var in inst[name].spec.outputs:
             if not var.diagnostic:
                 series[var.name] = np.ascontiguousarray(columns[var.name])

@@ -154,7 +154,7 @@ class ContractSlave(Fmi2Slave):
                           for kind in (Real, Boolean)}
         self._real_inputs = {vr: var.name for vr, var in self.vars.items()
                              if isinstance(var, Real) and var.causality == Fmi2Causality.input}
-        self._last_block: dict[int, tuple[list[int], tuple[str, ...]]] = {}
+        self._last_block: dict[int, tuple[list[int], tuple[tuple[str, ...], Callable[[Any], tuple]]]] = {}
 
     # ------------------------------------------------------------ registration
     def _scalar(self, var: contract.Variable):
@@ -271,12 +271,13 @@ class ContractSlave(Fmi2Slave):
     def terminate(self) -> None:
         pass
 
-    def _names_of(self, table: dict[int, str], vrs) -> tuple[str, ...] | None:
-        """Names of the value references ``vrs`` in ``table``, None if one is not there.
+    def _block(self, table: dict[int, str], vrs) -> tuple[tuple[str, ...], Callable[[Any], tuple]] | None:
+        """Names of the value references ``vrs`` in ``table`` and the getter of their values
+        (:func:`values_getter`); None if one reference is not in the table.
 
         A master sends the same block of references at every step: the last block asked
-        of each table and its names are kept, and a repeated block is recognised by one
-        list comparison (:func:`values_getter` caches the block's getter).
+        of each table is kept with its names and getter, and a repeated block is
+        recognised by one list comparison.
         """
         last = self._last_block.get(id(table))
         if last is not None and last[0] == vrs:
@@ -285,15 +286,16 @@ class ContractSlave(Fmi2Slave):
             names = tuple(table[vr] for vr in vrs)
         except KeyError:
             return None
-        self._last_block[id(table)] = (list(vrs), names)
-        return names
+        block = (names, values_getter(names))
+        self._last_block[id(table)] = (list(vrs), block)
+        return block
 
     def _read(self, kind: str, vrs) -> list | None:
         """Values of ``vrs`` if all are variables of type ``kind``, else None."""
-        names = self._names_of(self._readable[kind], vrs)
-        if names is None:
+        block = self._block(self._readable[kind], vrs)
+        if block is None:
             return None
-        return list(values_getter(names)(self.values))
+        return list(block[1](self.values))
 
     def get_real(self, vrs):
         fast = self._read("Real", vrs)
@@ -315,11 +317,11 @@ class ContractSlave(Fmi2Slave):
         return self._guard("getString", lambda: super(ContractSlave, self).get_string(vrs), default=[""] * len(vrs))
 
     def set_real(self, vrs, values):
-        names = self._names_of(self._real_inputs, vrs)
-        if names is None:  # parameters, outputs or unknown references: pythonfmu's checks and messages
+        block = self._block(self._real_inputs, vrs)
+        if block is None:  # parameters, outputs or unknown references: pythonfmu's checks and messages
             self._guard("setReal", lambda: super(ContractSlave, self).set_real(vrs, values))
         else:  # inputs only: no per-variable setter needed
-            self.values.update(zip(names, map(float, values)))
+            self.values.update(zip(block[0], map(float, values)))
         self._guard("inputs", self._inputs_changed)
 
     def set_integer(self, vrs, values):
