@@ -34,7 +34,14 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 from common import RESULTS, machine_header  # noqa: E402
 
-STAMP = Path(__file__).parents[1] / "towcable_fmu" / "__pycache__" / "kernel_sources.sha256"
+
+
+def _kernel_files() -> dict[str, int]:
+    """The compiled-kernel files of this code in the machine cache, with their sizes."""
+    from towcable_fmu.kernel_cache import kernel_folder
+
+    folder = kernel_folder()
+    return {str(p): p.stat().st_size for p in folder.rglob("*.nb*")} if folder.exists() else {}
 
 
 def make_spec(cases: int, duration: float, output: Path):
@@ -51,13 +58,13 @@ def measure(label: str, cases: int, duration: float, **kwargs) -> dict:
     """One run of the sweep; its throughput, timings per case and per worker."""
     from towcable_fmu.sweep import run_sweep
 
-    before = STAMP.stat().st_mtime if STAMP.exists() else None
+    before = _kernel_files()
     with tempfile.TemporaryDirectory() as tmp:
         spec = make_spec(cases, duration, Path(tmp))
         load = os.getloadavg()[0]
         report = run_sweep(spec, progress=False, **kwargs)
-    # the workers refresh numba's cache when a kernel source changed (another job editing the tree)
-    recompiled = (STAMP.stat().st_mtime if STAMP.exists() else None) != before
+    # a worker compiled (a kernel source changed, e.g. another job editing the tree)
+    recompiled = _kernel_files() != before
     if report.failed:
         raise RuntimeError(f"{label}: {report.failed} cases failed")
     span = report.busy_span

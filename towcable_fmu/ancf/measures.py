@@ -116,8 +116,9 @@ def summary(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: f
     out = np.zeros(len(SUMMARY_FIELDS))
     ne = model.el_len.shape[0]
     last = 6 * (model.node_mass.shape[0] - 1)  # the last node (extra coordinates of a load or body follow)
+    first = np.intp(0)  # a typed index, not a literal: one compiled residual_span serves every caller
     if model.free_idx[0] < 0:
-        residual_span(model, q, v, a, t, ship, 0, 1, r)
+        residual_span(model, q, v, a, t, ship, first, first + 1, r)
         out[0] = np.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
     if model.free_idx[last] < 0:
         residual_span(model, q, v, a, t, ship, ne - 1, ne, r)

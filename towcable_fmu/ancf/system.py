@@ -116,7 +116,7 @@ def residual(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: 
     float
         Total axial strain energy [J] (a by-product, used for energy outputs).
     """
-    return residual_span(model, q, v, a, t, ship, 0, model.el_len.shape[0], out)
+    return residual_span(model, q, v, a, t, ship, np.intp(0), model.el_len.shape[0], out)
 
 
 @njit(cache=True)

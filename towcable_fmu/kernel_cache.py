@@ -1,0 +1,148 @@
+"""Where the compiled kernels are kept: one cache per machine, keyed by the code's content.
+
+numba's own cache locators key a kernel's cache by the folder of its source file and
+check only that file: a copy of the code in a new folder (an FMU unzipped by a host)
+finds nothing, and a kernel that calls an edited kernel of another file keeps stale
+machine code. :class:`KernelCacheLocator` keys every kernel of our packages by a digest
+of all their kernel sources instead::
+
+    <cache root>/kernels/towcable-<digest>/<module path>/<kernel>-<line>.py311.nbi
+
+so the same code finds its kernels from any folder, and any change of a kernel source
+compiles everything afresh (old digests are simply never read again).
+
+The cache root is :func:`towcable_fmu.machine_cache.cache_root` (``$TOWCABLE_CACHE_DIR``,
+``$NUMBA_CACHE_DIR/towcable`` or ``~/.cache/towcable``). If it cannot be written,
+numba's own locators take over (a warning says so once).
+
+:func:`install` (called by ``towcable_fmu/__init__.py``, before any kernel module is
+imported) puts the locator in front of numba's and registers :func:`on_first_compile`
+callbacks: the command line prints "compiling the numerical kernels (first run only)",
+an FMU logs it.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import sys
+import warnings
+from pathlib import Path
+from typing import Callable
+
+from numba.core import caching, event
+
+from .machine_cache import cache_root
+
+#: numba's cache implementation base, whose ``_locator_classes`` are tried in order
+#: (``_CacheImpl`` before numba 0.64).
+_CACHE_IMPL = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl")
+
+#: The packages whose kernels this locator serves (the same three an FMU carries).
+PACKAGES = ("towcable_fmu", "ship_motion", "controllers")
+#: Folder holding the three packages of this copy of the code.
+ROOT = Path(__file__).resolve().parent.parent
+
+
+@functools.cache
+def kernel_digest(root: Path = ROOT) -> str:
+    """SHA-256 (16 hex digits) of the names and contents of every source file of the
+    packages under ``root`` that defines a compiled kernel."""
+    h = hashlib.sha256()
+    for package in PACKAGES:
+        for path in sorted((root / package).rglob("*.py")):
+            text = path.read_bytes()
+            if b"@njit" in text:
+                h.update(path.relative_to(root).as_posix().encode() + b"\0")
+                h.update(hashlib.sha256(text).digest())
+    return h.hexdigest()[:16]
+
+
+def kernel_folder(root: Path = ROOT) -> Path:
+    """Folder of this code's kernels in the machine cache."""
+    return cache_root() / "kernels" / f"towcable-{kernel_digest(root)}"
+
+
+class KernelCacheLocator(caching._CacheLocator):
+    """numba cache locator for the kernels of our packages (see the module docstring)."""
+
+    def __init__(self, py_func, py_file: str) -> None:
+        self._lineno = py_func.__code__.co_firstlineno
+        relative = Path(py_file).resolve().relative_to(ROOT)
+        self._path = kernel_folder() / relative.parent
+
+    @classmethod
+    def from_function(cls, py_func, py_file: str):
+        try:
+            Path(py_file).resolve().relative_to(ROOT)
+        except ValueError:
+            return None
+        if Path(py_file).resolve().relative_to(ROOT).parts[0] not in PACKAGES:
+            return None
+        self = cls(py_func, py_file)
+        try:
+            self.ensure_cache_path()
+        except OSError as exc:
+            _warn_unwritable(exc)
+            return None
+        return self
+
+    def get_cache_path(self) -> str:
+        return str(self._path)
+
+    def get_source_stamp(self) -> str:
+        return kernel_digest()
+
+    def get_disambiguator(self) -> str:
+        return str(self._lineno)
+
+
+@functools.cache
+def _warn_unwritable(exc: OSError) -> None:
+    warnings.warn(f"towcable cannot write its kernel cache ({exc}); set TOWCABLE_CACHE_DIR to a writable "
+                  "folder, or the kernels are compiled again in every new folder", stacklevel=3)
+
+
+#: Called once, with no argument, at the first kernel compilation of the process.
+_first_compile_callbacks: list[Callable[[], None]] = []
+
+
+def on_first_compile(callback: Callable[[], None]) -> None:
+    """Call ``callback()`` when the process first compiles one of our kernels (not when it
+    loads them from the cache); at once if it already has."""
+    if _FirstCompile.seen:
+        callback()
+    else:
+        _first_compile_callbacks.append(callback)
+
+
+class _FirstCompile(event.Listener):
+    """Fires the :func:`on_first_compile` callbacks at the first compilation of our kernels."""
+
+    seen = False
+
+    def on_start(self, ev: event.Event) -> None:
+        if _FirstCompile.seen:
+            return
+        module = getattr(ev.data["dispatcher"].py_func, "__module__", "") or ""
+        if any(part in PACKAGES for part in module.split(".")[:2]):  # ours, installed or carried by an FMU
+            _FirstCompile.seen = True
+            for callback in _first_compile_callbacks:
+                callback()
+
+    def on_end(self, ev: event.Event) -> None:
+        pass
+
+
+def print_compile_notice() -> None:
+    """Print the command line's first-compile notice to stderr."""
+    print("compiling the numerical kernels (first run only; cached in "
+          f"{kernel_folder()})...", file=sys.stderr, flush=True)
+
+
+@functools.cache
+def install() -> None:
+    """Put :class:`KernelCacheLocator` first among numba's locators; listen for the
+    first compilation. Idempotent."""
+    _CACHE_IMPL._locator_classes.insert(0, KernelCacheLocator)
+    event.register("numba:compile", _FirstCompile())
