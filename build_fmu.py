@@ -1,19 +1,20 @@
 #!/usr/bin/env python
 """Build the three FMUs (ShipMotion, HeaveCompensation, TowCable) into fmus/.
 
-    python build_fmu.py [--output DIR] [--check] [--ssp] [--crosscheck DIR] [--no-native] [NAME ...]
+    python build_fmu.py [--output DIR] [--standalone] [--check] [--ssp] [--crosscheck DIR] [--no-native] [NAME ...]
 
 The work is done by :func:`towcable_fmu.fmi.build.build_fmus` (also used by the tests and
-by ``towcable cosim``); variables, units and descriptions come from
-``towcable_fmu/contract.toml``. ``--check`` runs ``fmpy validate`` and ``fmutool -check``.
-``--crosscheck DIR`` writes the FMI Cross-Check artefacts (:mod:`towcable_fmu.fmi.crosscheck`);
-``--no-native`` leaves out the loader layer that lets the FMUs run in hosts without Python
-(:mod:`towcable_fmu.fmi.native`).
+by ``towcable cosim``); the command line is :mod:`towcable_fmu.build_command`. Each FMU
+carries the towcable code it runs; ``--standalone`` also carries a Python runtime, for
+hosts on machines without Python. ``--check`` runs ``fmpy validate`` and ``fmutool
+-check``; ``--ssp`` writes the SSP file of the default ``towcable cosim`` case;
+``--crosscheck DIR`` writes the FMI Cross-Check artefacts; ``--no-native`` leaves out
+the loader layer (the FMUs then run only in Python hosts).
 """
 
 import sys
 
-from towcable_fmu.fmi.build import build_fmus, check_fmus, ensure_fmus, main  # noqa: F401
+from towcable_fmu.build_command import main
 
 if __name__ == "__main__":
     sys.exit(main())

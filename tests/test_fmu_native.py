@@ -1,15 +1,15 @@
 """The FMUs in hosts without Python (issue 9): the loader layer, a C host, valgrind, cross-check.
 
 The C host (``tests/c_host/fmu_host.c``) is compiled here with the system C compiler and
-runs with an environment stripped of every PYTHON* variable: the FMU must find and start
-the Python recorded in ``resources/python_env.json`` by itself. Its outputs are compared
-with fmpy's (the cross-check reference, ``towcable_fmu.fmi.crosscheck``) for the same
-inputs.
+runs with an environment stripped of every PYTHON* variable: the FMU must find and start a
+Python by itself, here the machine Python named by ``TOWCABLE_PYTHON`` (this venv's; the
+standalone FMUs, which carry their own, are tested in test_fmu_standalone.py). Its
+outputs are compared with fmpy's (the cross-check reference,
+``towcable_fmu.fmi.crosscheck``) for the same inputs.
 """
 
 from __future__ import annotations
 
-import json
 import os
 import shutil
 import subprocess
@@ -96,8 +96,9 @@ def write_plan(path: Path, fmu_dir: Path, model: str, exp: xc.Experiment, output
 
 
 def host_env() -> dict[str, str]:
-    """An environment without any hint of Python (no PYTHON*, no virtualenv)."""
-    return {"PATH": "/usr/bin:/bin", "LANG": "C"}
+    """An environment without any hint of Python (no PYTHON*, no virtualenv) but the
+    interpreter the FMUs are to start, this venv's (``TOWCABLE_PYTHON``)."""
+    return {"PATH": "/usr/bin:/bin", "LANG": "C", "TOWCABLE_PYTHON": sys.executable}
 
 
 def run_host(host: Path, fmu_dir: Path, plan: Path, out: Path, prefix: list[str] | None = None,
@@ -116,16 +117,12 @@ def truncated_inputs(src: Path, dst: Path, rows: int) -> Path:
 
 # -------------------------------------------------------------------------- the loader
 @pytest.mark.parametrize("name", MODELS)
-def test_fmu_binary_is_the_loader_and_records_this_python(fmu_paths, name):
+def test_fmu_binary_is_the_loader_in_front_of_pythonfmu(fmu_paths, name):
     with zipfile.ZipFile(fmu_paths[name]) as z:
         loader = z.read(f"binaries/linux64/{name}.so")
         real = z.read(f"binaries/linux64/{native.REAL_LIBRARY}")
-        env = json.loads(z.read(native.ENV_RESOURCE))
     # pythonfmu's library needs Python's symbols from the process; the loader does not
     assert b"_Py_NoneStruct" in real and b"_Py_NoneStruct" not in loader
-    assert env["executable"] == sys.executable
-    assert Path(env["library"]).is_file() and Path(env["library"]).samefile(native.python_library())
-    assert env["sys_path"] and all(Path(p).exists() for p in env["sys_path"])
 
 
 def test_pythonfmu_library_alone_does_not_load_in_a_c_host(host, extracted, tmp_path):
@@ -141,40 +138,52 @@ def test_pythonfmu_library_alone_does_not_load_in_a_c_host(host, extracted, tmp_
 
 
 @needs_valgrind
-@pytest.mark.parametrize("damage", ["no record", "malformed record", "interpreter gone"])
-def test_missing_environment_fails_instantiate_with_a_message(host, extracted, tmp_path, damage):
-    fmu_dir = tmp_path / "ShipMotion"
-    shutil.copytree(extracted["ShipMotion"], fmu_dir)
-    record = fmu_dir / native.ENV_RESOURCE
-    env = json.loads(record.read_text(encoding="utf-8"))
-    if damage == "no record":
-        record.unlink()
-        expected = "found no record of it: cannot read"
-    elif damage == "malformed record":
-        record.write_text('{"executable": "/usr/bin/python3", "sys_path": ["/x"', encoding="utf-8")
-        expected = "python_env.json is malformed"
-    else:
-        env["executable"] = "/nonexistent/venv/bin/python"
-        record.write_text(json.dumps(env), encoding="utf-8")
-        expected = "is missing: /nonexistent/venv/bin/python does not exist"
+@pytest.mark.parametrize("python,expected", [
+    ("/nonexistent/venv/bin/python", "this FMU needs a Python: it runs inside Python hosts"),
+    ("/bin/sh", "this FMU needs a Python"),
+])
+def test_no_usable_python_fails_instantiate_with_a_message(host, extracted, tmp_path, python, expected):
+    fmu_dir = extracted["ShipMotion"]
     plan = write_plan(tmp_path / "plan.txt", fmu_dir, "ShipMotion", xc.EXPERIMENTS["ShipMotion"], ["ship.z"], None)
-    proc = run_host(host, fmu_dir, plan, tmp_path / "out.csv", prefix=[VALGRIND, "--error-exitcode=9", "-q"])
+    proc = run_host(host, fmu_dir, plan, tmp_path / "out.csv", prefix=[VALGRIND, "--error-exitcode=9", "-q"],
+                    extra_env={"TOWCABLE_PYTHON": python})
     assert proc.returncode == 2, proc.stderr  # fmi2Instantiate returned NULL; no crash, no memory error
     logged = [line for line in proc.stderr.splitlines() if line.startswith("[ShipMotion_1] status 3 ")]
     assert len(logged) == 1 and expected in logged[0], proc.stderr
 
 
-def test_fmpy_host_uses_its_own_python_without_the_record(fmu_paths, tmp_path):
+def test_a_python_without_the_requirements_is_named_with_the_missing_packages(host, extracted, tmp_path):
+    """The machine's own Python (no numpy, numba, scipy): the FMU says what to install."""
+    bare = tmp_path / "bare"
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(bare)], check=True)
+    plan = write_plan(tmp_path / "plan.txt", extracted["ShipMotion"], "ShipMotion", xc.EXPERIMENTS["ShipMotion"],
+                      ["ship.z"], None)
+    proc = run_host(host, extracted["ShipMotion"], plan, tmp_path / "out.csv",
+                    extra_env={"TOWCABLE_PYTHON": str(bare / "bin" / "python")})
+    assert proc.returncode == 2, proc.stderr
+    assert "this FMU needs the Python packages numpy, scipy, numba" in proc.stderr
+    assert "pythonfmu deploy" in proc.stderr
+
+
+def test_fmpy_host_uses_its_own_python_never_the_machine_one(fmu_paths, monkeypatch):
     """In a Python host the loader must not start (or even look for) a second interpreter."""
-    fmu = tmp_path / "ShipMotion.fmu"
-    with zipfile.ZipFile(fmu_paths["ShipMotion"]) as src, zipfile.ZipFile(fmu, "w") as dst:
-        for info in src.infolist():
-            if info.filename != native.ENV_RESOURCE:
-                dst.writestr(info, src.read(info.filename))
+    monkeypatch.setenv("TOWCABLE_PYTHON", "/nonexistent/python")
     exp = xc.Experiment(0.0, 0.1, 0.01, 1e-4, ("ship.z",))
-    result = xc.simulate(fmu, exp, None, exp.outputs)
-    reference = xc.simulate(fmu_paths["ShipMotion"], exp, None, exp.outputs)
-    assert np.array_equal(result["ship.z"], reference["ship.z"]) and np.any(result["ship.z"] != 0.0)
+    result = xc.simulate(fmu_paths["ShipMotion"], exp, None, exp.outputs)
+    assert np.any(result["ship.z"] != 0.0)
+
+
+@pytest.mark.parametrize("logging", ["on", "off"])
+def test_a_bad_parameter_is_an_error_the_c_host_sees_with_logging_on_or_off(host, extracted, tmp_path, logging):
+    fmu_dir = extracted["HeaveCompensation"]
+    exp = xc.EXPERIMENTS["HeaveCompensation"]
+    plan = write_plan(tmp_path / "plan.txt", fmu_dir, "HeaveCompensation", exp, ["winch.phi_sp"], None,
+                      params={"algorithm": "nope"}, instances=1)
+    plan.write_text(plan.read_text(encoding="utf-8") + f"logging {logging}\n", encoding="utf-8")
+    proc = run_host(host, fmu_dir, plan, tmp_path / "out.csv")
+    assert proc.returncode == 3, proc.stderr  # fmi2ExitInitializationMode returned fmi2Error
+    logged = [line for line in proc.stderr.splitlines() if line.startswith("[HeaveCompensation_1] status 3 ")]
+    assert len(logged) == 1 and "algorithm = 'nope' is invalid: allowed one of none" in logged[0], proc.stderr
 
 
 # ------------------------------------------------------------- C host against fmpy

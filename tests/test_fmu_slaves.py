@@ -15,6 +15,8 @@ from fmpy.fmi1 import FMICallException
 
 from fmu_util import SMALL_SCENE, all_finite, open_fmu, outputs, set_inputs, ship_inputs
 
+from towcable_fmu import contract
+
 DISCARD, ERROR = 2, 3
 
 
@@ -247,13 +249,28 @@ def test_nan_input_zero_and_negative_step_are_discarded_with_a_message(fmu_paths
     ("ShipMotion", {"motion.hs": -1.0}, "motion.hs"),
     ("ShipMotion", {"motion.type": "tsunami"}, "motion.type"),
 ])
-def test_bad_scene_or_parameter_fails_initialisation_with_a_message(fmu_paths, name, params, text):
-    fmu = open_fmu(fmu_paths, name, params)
+def test_bad_scene_or_parameter_is_an_fmi2_error_with_a_message(fmu_paths, name, params, text):
+    """A value outside the contract's declared range is refused by its setter; any other
+    value the model cannot use, by fmi2ExitInitializationMode. Both return fmi2Error (the
+    loader layer maps the logged error to the call's status), and a failed initialisation
+    makes every later step an error too."""
+    spec = contract.fmu(name)
+    declared = all(spec.variable(k).min is None or v >= spec.variable(k).min for k, v in params.items()
+                   if isinstance(v, float))
+    fmu = open_fmu(fmu_paths, name, {})
     mark = len(fmu.messages)
-    fmu.fmu.exitInitializationMode()  # pythonfmu 0.7 cannot return fmi2Error: the error is logged
+    with pytest.raises(FMICallException) as info:
+        fmu.set_parameters(params)
+        assert declared, "a value outside the declared range was set"
+        fmu.fmu.exitInitializationMode()
+    assert info.value.status == ERROR
     errors = [m for s, m in fmu.messages[mark:] if s == ERROR]
     assert errors and text in errors[0], fmu.log_text(mark)
-    expect_discard(fmu, 0.0, 0.01, "initialisation failed")
+    if declared:
+        mark = len(fmu.messages)
+        with pytest.raises(FMICallException) as info:
+            fmu.fmu.doStep(0.0, 0.01)
+        assert info.value.status == ERROR and "initialisation failed" in fmu.log_text(mark)
     fmu.free()
 
 

@@ -15,7 +15,7 @@ import time
 from pathlib import Path
 from typing import Sequence
 
-from . import contract
+from . import contract, kernel_cache
 from .errors import TowcableError
 from .models import model_kind, simulation_for
 from .scene import builtin_scene_names, load_scene, parse_override
@@ -170,6 +170,12 @@ def cmd_cosim(args: argparse.Namespace) -> int:
     result = run_cosim(config, progress=None if args.quiet else Progress(), echo=not args.quiet)
     files = write_results(result, Path(args.output), plot=not args.no_plot,
                           title=f"co-simulation of '{args.scene}', compensation {result.parameters['HeaveCompensation']['algorithm']}")
+    if args.ssp:
+        from .fmi.build import ensure_fmus
+        from .fmi.ssp import write_ssp
+
+        files["ssp"] = write_ssp(args.ssp, ensure_fmus(args.fmus), result.parameters, start_time=0.0,
+                                 stop_time=args.duration)
     if not args.quiet:
         t = result.timing
         print(f"wrote {', '.join(str(f) for f in files.values())}", file=sys.stderr)
@@ -269,6 +275,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="compensated point, ship frame [m] (default: scene [sheave], else the cable's top attachment)")
     p.add_argument("--fmus", default="fmus", help="folder of the FMUs (built there when missing or stale; default fmus/)")
     p.add_argument("--no-plot", action="store_true", help="do not write cosim.png")
+    p.add_argument("--ssp", metavar="FILE", default=None, help="also write the SSP file of this run (the three "
+                   "FMUs, their connections and every parameter the master set), for other FMI tools")
     p.add_argument("--quiet", action="store_true", help="no progress or summary on stderr")
     p.set_defaults(func=cmd_cosim)
 
@@ -310,6 +318,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``towcable`` console script."""
     args = build_parser().parse_args(argv)
+    kernel_cache.WATCH.notice = kernel_cache.print_compile_notice
     try:
         return args.func(args)
     except TowcableError as exc:

@@ -36,7 +36,7 @@ class Signal:
 
 @functools.cache
 def _document() -> dict:
-    text = (resources.files("towcable_fmu") / "contract.toml").read_text(encoding="utf-8")
+    text = (resources.files(__package__) / "contract.toml").read_text(encoding="utf-8")
     return tomllib.loads(text)
 
 
@@ -84,9 +84,12 @@ class Variable:
     description
         One-line meaning.
     start
-        Start value (parameters and inputs; outputs start at 0 / false).
+        Start value (parameters and inputs; outputs are calculated at initialisation).
     diagnostic
         True for non-physics outputs (``model_wall_time``).
+    min, max
+        Range of a Real or Integer parameter the model accepts (inclusive; None: unbounded
+        on that side), written into modelDescription.xml.
     """
 
     name: str
@@ -96,6 +99,8 @@ class Variable:
     description: str
     start: object = None
     diagnostic: bool = False
+    min: float | None = None
+    max: float | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -193,9 +198,15 @@ def _parameter(entry: dict, where: str) -> Variable:
     unit = entry.get("unit") if kind == "Real" else None
     if kind == "Real" and unit not in units():
         raise ValueError(f"{where}.{entry['name']}: Real parameters need a unit of [units], got {unit!r}")
-    start = {"Real": float, "Integer": int, "Boolean": bool, "String": str}[kind](entry["start"])
+    cast = {"Real": float, "Integer": int, "Boolean": bool, "String": str}[kind]
+    start = cast(entry["start"])
+    bounds = {key: cast(entry[key]) for key in ("min", "max") if key in entry}
+    if bounds and kind not in ("Real", "Integer"):
+        raise ValueError(f"{where}.{entry['name']}: only Real and Integer parameters have a range")
+    if not bounds.get("min", start) <= start <= bounds.get("max", start):
+        raise ValueError(f"{where}.{entry['name']}: start {start!r} outside [{bounds.get('min')}, {bounds.get('max')}]")
     return Variable(name=entry["name"], causality="parameter", type=kind, unit=unit,
-                    description=entry["description"], start=start)
+                    description=entry["description"], start=start, **bounds)
 
 
 @functools.cache

@@ -348,7 +348,9 @@ def fmu_variables_markdown() -> str:
     lines += ["Names, units and descriptions are those written into each FMU's `modelDescription.xml`; the "
               "command line (`towcable static --json`, `towcable run` CSV columns) uses the same names. "
               "Within an FMU the value references follow the order of the tables below: parameters, inputs, "
-              "outputs. Units are FMI unit symbols (`1`: dimensionless).", "", "## Signals", ""]
+              "outputs. Units are FMI unit symbols (`1`: dimensionless). Parameters are `fixed` (they act at "
+              "initialisation; a value outside [min, max] is refused by its setter with fmi2Error); outputs are "
+              "`initial=\"calculated\"` (computed at initialisation).", "", "## Signals", ""]
     fmus = contract.fmus()
     users: dict[str, list[str]] = {}
     for spec in fmus.values():
@@ -366,9 +368,14 @@ def fmu_variables_markdown() -> str:
             if not variables:
                 continue
             lines += [f"### {causality.capitalize()}s", ""]
-            lines += _table(("name", "type", "unit", "start", "description"),
-                            ((_code(v.name), v.type, _code(v.unit or ""), _start(v.start), _cell(v.description))
-                             for v in variables))
+            if causality == "parameter":  # fixed: set before initialisation; the range is modelDescription's
+                lines += _table(("name", "type", "unit", "start", "min", "max", "description"),
+                                ((_code(v.name), v.type, _code(v.unit or ""), _start(v.start), _start(v.min),
+                                  _start(v.max), _cell(v.description)) for v in variables))
+            else:
+                lines += _table(("name", "type", "unit", "description"),
+                                ((_code(v.name), v.type, _code(v.unit or ""), _cell(v.description))
+                                 for v in variables))
     system = contract.system()
     lines += [f"## Connections of {system['name']}", "", _cell(system["description"]) + ".", "",
               "Components in evaluation order: " + ", ".join(system["components"]) + ". A delayed connection "

@@ -16,9 +16,9 @@ The cache root is :func:`towcable_fmu.machine_cache.cache_root` (``$TOWCABLE_CAC
 numba's own locators take over (a warning says so once).
 
 :func:`install` (called by ``towcable_fmu/__init__.py``, before any kernel module is
-imported) puts the locator in front of numba's and registers :func:`on_first_compile`
-callbacks: the command line prints "compiling the numerical kernels (first run only)",
-an FMU logs it.
+imported) puts the locator in front of numba's and registers :data:`WATCH`, which
+tells when the kernels compile: the command line prints "compiling the numerical
+kernels (first run only)" as it starts, an FMU logs how long it took.
 """
 
 from __future__ import annotations
@@ -26,6 +26,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import sys
+import time
 import warnings
 from pathlib import Path
 from typing import Callable
@@ -47,8 +48,11 @@ ROOT = Path(__file__).resolve().parent.parent
 @functools.cache
 def kernel_digest(root: Path = ROOT) -> str:
     """SHA-256 (16 hex digits) of the names and contents of every source file of the
-    packages under ``root`` that defines a compiled kernel."""
-    h = hashlib.sha256()
+    packages under ``root`` that defines a compiled kernel, and of the name the code is
+    imported under: numba's cache entries name their module (it is imported again to load
+    them), so the copy an FMU carries (``towcable_<digest>.towcable_fmu``) must not share
+    the entries of the installed ``towcable_fmu`` even where the sources are the same."""
+    h = hashlib.sha256(__name__.encode() + b"\0")
     for package in PACKAGES:
         for path in sorted((root / package).rglob("*.py")):
             text = path.read_bytes()
@@ -103,46 +107,58 @@ def _warn_unwritable(exc: OSError) -> None:
                   "folder, or the kernels are compiled again in every new folder", stacklevel=3)
 
 
-#: Called once, with no argument, at the first kernel compilation of the process.
-_first_compile_callbacks: list[Callable[[], None]] = []
+class CompileWatch(event.Listener):
+    """Watches numba compile our kernels (not load them from the cache).
 
+    ``notice`` is called once, with no argument, when the process starts compiling the
+    first of our kernels; ``seconds`` is the wall time spent compiling them so far
+    (outermost compilations only: a kernel compiled for its caller is counted once).
+    """
 
-def on_first_compile(callback: Callable[[], None]) -> None:
-    """Call ``callback()`` when the process first compiles one of our kernels (not when it
-    loads them from the cache); at once if it already has."""
-    if _FirstCompile.seen:
-        callback()
-    else:
-        _first_compile_callbacks.append(callback)
-
-
-class _FirstCompile(event.Listener):
-    """Fires the :func:`on_first_compile` callbacks at the first compilation of our kernels."""
-
-    seen = False
+    def __init__(self) -> None:
+        self.notice: Callable[[], None] | None = None
+        self.seconds = 0.0
+        self._depth = 0
+        self._start = 0.0
 
     def on_start(self, ev: event.Event) -> None:
-        if _FirstCompile.seen:
-            return
-        module = getattr(ev.data["dispatcher"].py_func, "__module__", "") or ""
-        if any(part in PACKAGES for part in module.split(".")[:2]):  # ours, installed or carried by an FMU
-            _FirstCompile.seen = True
-            for callback in _first_compile_callbacks:
-                callback()
+        if self._depth == 0:
+            module = getattr(ev.data["dispatcher"].py_func, "__module__", "") or ""
+            if not any(part in PACKAGES for part in module.split(".")[:2]):  # ours, installed or in an FMU
+                return
+            self._start = time.perf_counter()
+            if self.notice is not None:
+                notice, self.notice = self.notice, None
+                notice()
+        self._depth += 1
 
     def on_end(self, ev: event.Event) -> None:
-        pass
+        if self._depth == 0:
+            return
+        self._depth -= 1
+        if self._depth == 0:
+            self.seconds += time.perf_counter() - self._start
+
+
+def prepare(kernel, *args) -> None:
+    """Compile ``kernel`` (or load it from the cache) for the types of ``args`` without
+    calling it: done at initialisation, so that a run does not stop to compile mid-way."""
+    kernel.compile(tuple(kernel.typeof_pyval(arg) for arg in args))
+
+
+#: The process's watch (registered by :func:`install`).
+WATCH = CompileWatch()
 
 
 def print_compile_notice() -> None:
-    """Print the command line's first-compile notice to stderr."""
+    """The command line's notice, printed to stderr when the first kernel compiles."""
     print("compiling the numerical kernels (first run only; cached in "
           f"{kernel_folder()})...", file=sys.stderr, flush=True)
 
 
 @functools.cache
 def install() -> None:
-    """Put :class:`KernelCacheLocator` first among numba's locators; listen for the
-    first compilation. Idempotent."""
+    """Put :class:`KernelCacheLocator` first among numba's locators and register
+    :data:`WATCH`. Idempotent."""
     _CACHE_IMPL._locator_classes.insert(0, KernelCacheLocator)
-    event.register("numba:compile", _FirstCompile())
+    event.register("numba:compile", WATCH)

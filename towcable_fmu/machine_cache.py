@@ -17,7 +17,9 @@ The cache folder (:func:`cache_root`) is ``$TOWCABLE_CACHE_DIR``, else
 from __future__ import annotations
 
 import hashlib
+import importlib.util
 import os
+import re
 import shutil
 import sys
 import tempfile
@@ -72,18 +74,34 @@ def _install(source: Path, target: Path) -> None:
         shutil.rmtree(staging, ignore_errors=True)
 
 
-def activate(bundle: str) -> Path:
-    """Make the package ``bundle`` that this FMU carries importable; return its folder.
+def check_requirements(path: Path) -> None:
+    """Raise ImportError naming every package of a requirements file (``name>=version``
+    lines) that the running Python cannot import."""
+    names = [re.split(r"[<>=!~;\[ ]", line.strip(), maxsplit=1)[0]
+             for line in path.read_text(encoding="utf-8").splitlines() if line.strip() and not line.startswith("#")]
+    missing = [name for name in names if importlib.util.find_spec(name) is None]
+    if missing:
+        raise ImportError(f"this FMU needs the Python packages {', '.join(missing)} ({path.name} in the FMU's "
+                          f"resources) in the Python that runs it ({sys.executable or sys.prefix}): install them "
+                          f"with 'pythonfmu deploy <FMU>' or 'pip install -r resources/{path.name}', or use the "
+                          "standalone FMU (build_fmu.py --standalone), which carries its own Python")
 
-    The package is ``resources/<bundle>/`` beside this file. It is installed into
-    ``<cache root>/code/<bundle>/`` unless an identical copy is there (checked against
-    the FMU's manifest), and that folder's parent goes first on ``sys.path``. If the cache
-    cannot be written the package is imported from the FMU's own folder (with a
-    warning: its kernels are then compiled in every new folder). Idempotent.
+
+def activate(bundle: str) -> Path:
+    """Import the package ``bundle`` that this FMU carries (``sys.modules[bundle]``) from
+    the machine cache; return its folder. Idempotent.
+
+    The package is ``resources/<bundle>/`` beside this file; the packages of
+    ``resources/requirements.txt`` must be importable (:func:`check_requirements`). It is
+    installed into ``<cache root>/code/<bundle>/`` unless an identical copy is there
+    (checked against the FMU's manifest) and imported from there by location. If the
+    cache cannot be written it is imported from the FMU's own folder (with a warning: its
+    kernels are then compiled in every new folder).
     """
     source = Path(__file__).resolve().parent / bundle
     if bundle in sys.modules:
         return Path(sys.modules[bundle].__file__).parent
+    check_requirements(source.parent / "requirements.txt")
     target = cache_root() / "code" / bundle
     try:
         if not is_copy_of(target, source):
@@ -93,6 +111,15 @@ def activate(bundle: str) -> Path:
         warnings.warn(f"cannot install the FMU's code into {target} ({exc}); running it from {source} "
                       "(set TOWCABLE_CACHE_DIR to a writable folder)", stacklevel=2)
         folder = source
-    if str(folder.parent) not in sys.path:
-        sys.path.insert(0, str(folder.parent))
+    # imported from that folder by location: whatever else is on sys.path (pythonfmu puts
+    # the unzipped resources/ first, where the same package lies) cannot shadow it
+    spec = importlib.util.spec_from_file_location(bundle, folder / "__init__.py",
+                                                  submodule_search_locations=[str(folder)])
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[bundle] = module
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        del sys.modules[bundle]
+        raise
     return folder

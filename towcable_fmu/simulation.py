@@ -14,6 +14,7 @@ from typing import Any, Callable, Iterable, Mapping
 import numpy as np
 
 from . import drive as drive_poly
+from . import kernel_cache
 from .ancf import element, initial_shape, measures
 from .ancf.mesh import Mesh, build_mesh, build_model, winch_radius
 from .ancf.prescribed import apply_prescribed
@@ -218,10 +219,11 @@ class Simulation:
             if setpoint is None:
                 sp = self.compensation.compute(ship0, None)
                 self._setpoint = (float(sp.phi_sp), float(sp.phi_sp_rate))
-        if not genalpha.initial_acceleration(self.model, st, self.workspace, t0,
-                                             *drive_poly.taylor_drive(t0, ship0, self._setpoint)):
+        drive = drive_poly.taylor_drive(t0, ship0, self._setpoint)
+        if not genalpha.initial_acceleration(self.model, st, self.workspace, t0, *drive):
             raise SolverError("the initial state has no finite acceleration (singular mass matrix or "
                               "non-finite forces)")
+        kernel_cache.prepare(genalpha.advance, self.model, self.options, st, self.workspace, t0, *drive)
         self._initialized = True
         self._last_outputs = self.outputs()
         return self._last_outputs

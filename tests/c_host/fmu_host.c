@@ -9,6 +9,7 @@
  *     guid GUID
  *     start T0 / stop T1 / step H   communication grid [s]
  *     instances N          run the whole sequence N times, one instance after the other
+ *     logging on|off       the loggingOn argument of fmi2Instantiate (default on)
  *     inputs FILE.csv      header line, then rows "time,u1,u2,..." on the grid t0 + k H
  *     input VR             value reference of the next input column (Real)
  *     param R VR VALUE / param S VR TEXT   set after fmi2Instantiate
@@ -38,6 +39,7 @@ typedef struct {
     char model[256], guid[256], inputs[LINE];
     double start, stop, step;
     int instances;
+    int logging;
     size_t nin, nreal, nbool, nparam;
     fmi2ValueReference in_vr[MAX_VARS], real_vr[MAX_VARS], bool_vr[MAX_VARS], param_vr[MAX_VARS];
     char real_name[MAX_VARS][128], bool_name[MAX_VARS][128], param_type[MAX_VARS];
@@ -78,6 +80,7 @@ static int read_plan(const char *path, Plan *plan)
     unsigned vr;
     int offset, ok = 1;
     plan->instances = 1;
+    plan->logging = 1;
     while (ok && fgets(line, sizeof line, f)) {
         line[strcspn(line, "\r\n")] = '\0';
         if (sscanf(line, "%31s %n", key, &offset) != 1) continue;
@@ -88,6 +91,10 @@ static int read_plan(const char *path, Plan *plan)
         else if (!strcmp(key, "stop")) ok = sscanf(rest, "%lf", &plan->stop) == 1;
         else if (!strcmp(key, "step")) ok = sscanf(rest, "%lf", &plan->step) == 1 && plan->step > 0;
         else if (!strcmp(key, "instances")) ok = sscanf(rest, "%d", &plan->instances) == 1;
+        else if (!strcmp(key, "logging")) {
+            ok = !strcmp(rest, "on") || !strcmp(rest, "off");
+            plan->logging = !strcmp(rest, "on");
+        }
         else if (!strcmp(key, "inputs")) snprintf(plan->inputs, sizeof plan->inputs, "%s", rest);
         else if (!strcmp(key, "input") && plan->nin < MAX_VARS)
             ok = sscanf(rest, "%u", &plan->in_vr[plan->nin++]) == 1;
@@ -179,7 +186,8 @@ static int run(const Api *api, const Plan *plan, const char *uri, const double *
     fmi2CallbackFunctions callbacks = {logger, calloc, free, NULL, NULL};
     char name[300];
     snprintf(name, sizeof name, "%s_%d", plan->model, index);
-    fmi2Component c = api->Instantiate(name, fmi2CoSimulation, plan->guid, uri, &callbacks, fmi2False, fmi2True);
+    fmi2Component c = api->Instantiate(name, fmi2CoSimulation, plan->guid, uri, &callbacks, fmi2False,
+                                     plan->logging ? fmi2True : fmi2False);
     if (!c) {
         fprintf(stderr, "fmi2Instantiate failed\n");
         return 2;

@@ -1,44 +1,59 @@
-"""Build the three FMUs with pythonfmu, write units and descriptions, validate them.
+"""Build the three FMUs, each carrying the code it runs, and validate them.
 
 :func:`build_fmus` is what ``python build_fmu.py`` (repository root), the tests and the
 co-simulation master call. For every FMU of the contract (``[fmus]`` in
-``towcable_fmu/contract.toml``) it
+``towcable_fmu/contract.toml``) it writes one zip archive, byte for byte the same for
+the same sources (sorted entries, fixed dates):
 
-1. writes a one-line entry script ``<name>_slave.py`` (``from <module> import <Class>``):
-   the slave itself stays in the installed packages (all pythonfmu FMUs share the
-   calling interpreter; the script names differ so that their modules do not collide);
-2. runs ``pythonfmu build`` with ``--handle-state --serialize-state``;
-3. rewrites modelDescription.xml: UnitDefinitions of the units used, the unit of every
-   Real variable and the description of every variable from the contract, a
-   DefaultExperiment, and checks that the variables are exactly those of the contract;
-4. installs the loader layer of :mod:`towcable_fmu.fmi.native` (C, compiled here) as the
-   Linux binary, so that the FMU also runs in hosts without Python;
-5. (``check=True``) runs ``fmpy validate`` and ``fmutool -check`` and raises if either
-   reports a problem.
+* ``modelDescription.xml``: pythonfmu's description of the slave's variables, with
+  units, descriptions, ranges and a DefaultExperiment from the contract, outputs
+  ``initial="calculated"`` and listed in ``ModelStructure/InitialUnknowns``, and a GUID
+  derived from the archive's content (:func:`annotate_model_description`);
+* ``resources/``: the bundle of our packages under a private name
+  (:mod:`towcable_fmu.fmi.bundle`), its activation module
+  (:mod:`towcable_fmu.machine_cache`), a one-statement entry script per FMU, pythonfmu's
+  Python package (as pythonfmu's own builder embeds it), ``requirements.txt`` (the
+  third-party packages, pythonfmu's convention, so ``pythonfmu deploy`` installs them)
+  and, for a standalone FMU, a Python runtime (:mod:`towcable_fmu.fmi.runtime`);
+* ``binaries/linux64/<model>.so``: the loader layer (:mod:`towcable_fmu.fmi.native`,
+  compiled here) in front of pythonfmu's library; ``binaries/win64/<model>.dll``:
+  pythonfmu's (not in standalone FMUs: it needs an installed Python).
 
-A stamp file (``build_stamp.json``) records a hash of the contract and the slave sources:
-:func:`ensure_fmus` rebuilds only when it changed.
+No path of the building machine is written into an FMU. ``check=True`` runs ``fmpy
+validate`` and ``fmutool -check`` and raises if either reports a problem. A stamp file
+(``build_stamp.json``) records a hash of the sources: :func:`ensure_fmus` rebuilds only
+when it changed.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+import re
 import subprocess
 import sys
 import tempfile
+import uuid
 import xml.etree.ElementTree as ET
 import zipfile
 from importlib import import_module
 from pathlib import Path
 from typing import Iterable
 
-from .. import contract
+from .. import contract, machine_cache
+from . import bundle as code_bundle
 from . import native
 
 #: Communication step written as DefaultExperiment/stepSize [s].
 DEFAULT_STEP = 0.01
 STAMP = "build_stamp.json"
+#: Third-party packages the FMUs import at run time, with the lowest versions they need
+#: (those of pyproject.toml).
+REQUIREMENTS = {"numpy": "1.26", "scipy": "1.11", "numba": "0.59"}
+#: The GUID written before the real one is known.
+_GUID_PLACEHOLDER = "00000000-0000-0000-0000-000000000000"
+#: Date of every archive entry (reproducible archives).
+_ZIP_DATE = (2020, 1, 1, 0, 0, 0)
 
 
 class FmuCheckError(RuntimeError):
@@ -50,48 +65,18 @@ class FmuCheckError(RuntimeError):
         super().__init__("FMU validation failed:\n" + "\n".join(lines))
 
 
-def _sources() -> list[Path]:
-    """Files whose content defines the FMUs (for the stamp)."""
-    files = [Path(contract.__file__), Path(contract.__file__).with_suffix(".toml"), Path(__file__),
-             Path(__file__).with_name("slave.py"), Path(native.__file__), native.LOADER_SOURCE]
-    for spec in contract.fmus().values():
-        files.append(Path(import_module(spec.slave.split(":")[0]).__file__))
-    return files
-
-
-def source_hash() -> str:
-    """Hash of the contract, the slave modules and the pythonfmu version."""
+def source_hash(standalone: bool = False) -> str:
+    """Hash of everything an FMU is made of: our packages, the loader source, pythonfmu's
+    version, the Python version and the kind of build."""
     import pythonfmu
 
-    h = hashlib.sha256(pythonfmu.__version__.encode())
-    for f in _sources():
-        h.update(f.name.encode())
-        h.update(f.read_bytes())
+    h = hashlib.sha256(f"{pythonfmu.__version__} {sys.version} {standalone}".encode())
+    h.update(code_bundle.digest(code_bundle.package_files()).encode())
+    h.update(native.LOADER_SOURCE.read_bytes())
     return h.hexdigest()
 
 
-#: The FMU's Python entry module. pythonfmu 0.7's C layer executes this file again at every
-#: fmi2Instantiate (to find the slave class) and then releases one reference to the
-#: module's globals dict that it never owned (``Py_DECREF`` of ``PyModule_GetDict``). A
-#: module without functions has few references to its dict, so after a few instantiations
-#: the dict is freed while still in use and the host crashes in the garbage collector.
-#: The second statement adds one reference per execution to balance that release.
-ENTRY_SCRIPT = '''"""{name} FMU entry point, written by build_fmu.py: the slave is {module}.{cls} in the
-installed towcable package."""
-
-from {module} import {cls}  # noqa: F401
-
-globals().setdefault("_pythonfmu_dict_refs", []).append(globals())  # see towcable_fmu/fmi/build.py
-'''
-
-
-def _entry_script(folder: Path, spec: contract.FmuSpec) -> Path:
-    module, cls = spec.slave.split(":")
-    script = folder / f"{spec.name.lower()}_slave.py"
-    script.write_text(ENTRY_SCRIPT.format(name=spec.name, module=module, cls=cls), encoding="utf-8")
-    return script
-
-
+# ------------------------------------------------------------------ modelDescription.xml
 def _unit_element(name: str, exponents: dict[str, float]) -> ET.Element:
     unit = ET.Element("Unit", name=name)
     base = {k: str(int(v)) for k, v in exponents.items() if k in contract.BASE_UNITS and v}
@@ -103,8 +88,16 @@ def _unit_element(name: str, exponents: dict[str, float]) -> ET.Element:
     return unit
 
 
+def _number_text(kind: str, value: float) -> str:
+    return repr(float(value)) if kind == "Real" else str(int(value))
+
+
 def annotate_model_description(xml: bytes, spec: contract.FmuSpec) -> bytes:
-    """modelDescription.xml with units, descriptions and a DefaultExperiment from the contract.
+    """modelDescription.xml with the contract's metadata (see the module docstring).
+
+    Parameters take their unit, description and range (``min``/``max`` of the contract);
+    outputs are ``initial="calculated"`` (computed at initialisation) and listed as
+    InitialUnknowns; ``generationDateAndTime`` is left out (reproducible archives).
 
     Raises
     ------
@@ -113,6 +106,7 @@ def annotate_model_description(xml: bytes, spec: contract.FmuSpec) -> bytes:
     """
     root = ET.fromstring(xml)
     root.set("description", spec.description)
+    root.attrib.pop("generationDateAndTime", None)
     variables = root.find("ModelVariables")
     scalars = list(variables.findall("ScalarVariable"))
     expected = spec.variables
@@ -120,13 +114,18 @@ def annotate_model_description(xml: bytes, spec: contract.FmuSpec) -> bytes:
         raise ValueError(f"{spec.name}: modelDescription variables differ from the contract")
     used: list[str] = []
     for sv, var in zip(scalars, expected):
-        if sv.get("causality") != var.causality or sv.find(var.type) is None:
+        element = sv.find(var.type)
+        if sv.get("causality") != var.causality or element is None:
             raise ValueError(f"{spec.name}.{var.name}: causality/type differ from the contract")
         sv.set("description", var.description)
         if var.type == "Real":
-            sv.find("Real").set("unit", var.unit)
+            element.set("unit", var.unit)
             if var.unit not in used:
                 used.append(var.unit)
+        for bound in ("min", "max"):
+            value = getattr(var, bound)
+            if value is not None:
+                element.set(bound, _number_text(var.type, value))
     for old in root.findall("UnitDefinitions") + root.findall("DefaultExperiment"):
         root.remove(old)
     units = ET.Element("UnitDefinitions")
@@ -139,48 +138,145 @@ def annotate_model_description(xml: bytes, spec: contract.FmuSpec) -> bytes:
     children = list(root)
     before = next(i for i, child in enumerate(children) if child.tag in ("VendorAnnotations", "ModelVariables"))
     root.insert(before, ET.Element("DefaultExperiment", startTime="0.0", stepSize=repr(DEFAULT_STEP)))
+    structure = root.find("ModelStructure")
+    for old in structure.findall("InitialUnknowns"):
+        structure.remove(old)
+    outputs = [str(i + 1) for i, var in enumerate(expected) if var.causality == "output"]
+    if outputs:
+        initial = ET.SubElement(structure, "InitialUnknowns")
+        for index in outputs:
+            ET.SubElement(initial, "Unknown", index=index)
     ET.indent(root)
     return b'<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="utf-8")
 
 
-def _rewrite(fmu: Path, spec: contract.FmuSpec, loader: Path | None = None) -> None:
-    with zipfile.ZipFile(fmu) as src:
-        files = {info.filename: src.read(info.filename) for info in src.infolist()}
-    files["modelDescription.xml"] = annotate_model_description(files["modelDescription.xml"], spec)
-    if loader is not None:
-        identifier = ET.fromstring(files["modelDescription.xml"]).find("CoSimulation").get("modelIdentifier")
-        files = native.loader_entries(files, identifier, loader)
-    tmp = fmu.with_suffix(".tmp")
-    with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as dst:
-        for name, data in files.items():
-            dst.writestr(name, data)
-    tmp.replace(fmu)
+def model_description(spec: contract.FmuSpec, standalone: bool) -> bytes:
+    """The annotated modelDescription.xml of one FMU, GUID still the placeholder."""
+    module, cls = spec.slave.split(":")
+    slave = getattr(import_module(module), cls)(instance_name="build", resources=None)
+    slave.guid = _GUID_PLACEHOLDER
+    options = {"needsExecutionTool": not standalone, "canHandleVariableCommunicationStepSize": True,
+               "canInterpolateInputs": False, "canBeInstantiatedOnlyOncePerProcess": False,
+               "canGetAndSetFMUstate": True, "canSerializeFMUstate": True}
+    return annotate_model_description(ET.tostring(slave.to_xml(options), encoding="utf-8"), spec)
 
 
-def build_fmu(spec: contract.FmuSpec, outdir: Path, loader: Path | None = None) -> Path:
-    """Build one FMU into ``outdir`` (``<name>.fmu``) and annotate its modelDescription.xml.
+# ------------------------------------------------------------------ resources and binaries
+def entry_script(spec: contract.FmuSpec, package: str) -> str:
+    """The FMU's Python entry module.
 
-    ``loader``: the compiled loader layer (:func:`towcable_fmu.fmi.native.compile_loader`)
-    to install as the Linux binary, or None to keep pythonfmu's (Python hosts only).
+    pythonfmu 0.7's C layer executes this file again at every fmi2Instantiate (to find the
+    slave class) and then releases one reference to the module's globals dict that it
+    never owned (``Py_DECREF`` of ``PyModule_GetDict``). A module without functions has
+    few references to its dict, so after a few instantiations the dict is freed while
+    still in use and the host crashes in the garbage collector. The last statement adds
+    one reference per execution to balance that release.
     """
-    from pythonfmu.builder import FmuBuilder
-
-    outdir.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="towcable_fmu_") as tmp:
-        script = _entry_script(Path(tmp), spec)
-        saved_path = list(sys.path)
-        try:
-            fmu = FmuBuilder.build_FMU(script, dest=outdir, canGetAndSetFMUstate=True, canSerializeFMUstate=True)
-        finally:
-            sys.path[:] = saved_path
-            sys.modules.pop(script.stem, None)
-    fmu = Path(fmu)
-    _rewrite(fmu, spec, loader)
-    return fmu
+    module, cls = spec.slave.split(":")
+    return (f'"""{spec.name} FMU entry point, written by build_fmu.py: the slave {module}.{cls} of the\n'
+            f'code this FMU carries (package {package}, see towcable_fmu/fmi/bundle.py)."""\n\n'
+            f"from {package}_activate import activate\n\n"
+            f'activate("{package}")\n'
+            f"from {package}.{module} import {cls}  # noqa: E402,F401\n\n"
+            'globals().setdefault("_pythonfmu_dict_refs", []).append(globals())  # see towcable_fmu/fmi/build.py\n')
 
 
+def requirements_text() -> str:
+    """``resources/requirements.txt``: the packages the FMUs import, with the versions
+    they need and (as a comment) the versions they were built and tested with."""
+    from importlib.metadata import version
+
+    lines = ["# Python packages the towcable FMUs import (pythonfmu deploy installs them);",
+             "# built with " + ", ".join(f"{name} {version(name)}" for name in REQUIREMENTS)
+             + f" on Python {sys.version_info.major}.{sys.version_info.minor}"]
+    lines += [f"{name}>={low}" for name, low in REQUIREMENTS.items()]
+    return "\n".join(lines) + "\n"
+
+
+def _pythonfmu_files() -> dict[str, bytes]:
+    """pythonfmu's Python package (its own builder embeds it in every FMU the same way)."""
+    import pythonfmu
+
+    folder = Path(pythonfmu.__file__).parent
+    return {f"resources/pythonfmu/{p.name}": p.read_bytes() for p in sorted(folder.glob("*.py"))}
+
+
+def _pythonfmu_binaries(model_identifier: str, standalone: bool) -> dict[str, bytes]:
+    import pythonfmu
+
+    folder = Path(pythonfmu.__file__).parent / "resources" / "binaries"
+    out = {f"binaries/linux64/{model_identifier}.so": (folder / "linux64" / "libpythonfmu-export.so").read_bytes()}
+    if not standalone:
+        out[f"binaries/win64/{model_identifier}.dll"] = (folder / "win64" / "pythonfmu-export.dll").read_bytes()
+    return out
+
+
+def fmu_files(spec: contract.FmuSpec, package: str, carried: dict[str, bytes], loader: Path | None,
+              runtime: dict[str, bytes] | None) -> dict[str, bytes]:
+    """Every entry of one FMU's archive (name -> content), GUID set.
+
+    Parameters
+    ----------
+    spec
+        The FMU.
+    package, carried
+        The bundle's package name and its files (:func:`towcable_fmu.fmi.bundle.bundle`,
+        paths relative to ``resources/``).
+    loader
+        The compiled loader layer, or None to keep pythonfmu's Linux binary.
+    runtime
+        A standalone FMU's Python runtime (paths relative to ``resources/python/``), or None.
+    """
+    entry = f"{spec.name.lower()}_entry_{package.removeprefix('towcable_')}"
+    files = {"modelDescription.xml": model_description(spec, runtime is not None),
+             f"resources/{entry}.py": entry_script(spec, package).encode(),
+             "resources/slavemodule.txt": entry.encode(),
+             "resources/requirements.txt": requirements_text().encode(),
+             f"resources/{package}_activate.py": Path(machine_cache.__file__).read_bytes()}
+    files.update({f"resources/{name}": data for name, data in carried.items()})
+    files.update(_pythonfmu_files())
+    files.update(_pythonfmu_binaries(spec.name, runtime is not None))
+    if loader is not None:
+        files = native.loader_entries(files, spec.name, loader)
+    if runtime is not None:
+        files.update({f"resources/python/{name}": data for name, data in runtime.items()})
+    h = hashlib.sha256()
+    for name in sorted(files):
+        h.update(name.encode() + b"\0" + hashlib.sha256(files[name]).digest())
+    guid = str(uuid.UUID(bytes=h.digest()[:16], version=5))
+    files["modelDescription.xml"] = files["modelDescription.xml"].replace(_GUID_PLACEHOLDER.encode(), guid.encode())
+    return files
+
+
+def write_archive(path: Path, files: dict[str, bytes]) -> Path:
+    """Write a zip archive with the entries in name order and fixed dates (atomically)."""
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as z:
+        for name in sorted(files):
+            info = zipfile.ZipInfo(name, date_time=_ZIP_DATE)
+            info.compress_type = zipfile.ZIP_DEFLATED
+            info.external_attr = (0o755 if name.endswith((".so", ".dll")) else 0o644) << 16
+            z.writestr(info, files[name])
+    tmp.replace(path)
+    return path
+
+
+def carried_package(fmu: str | Path) -> str:
+    """The name of the package an FMU carries (``towcable_<digest>``, from its entry script)."""
+    with zipfile.ZipFile(fmu) as z:
+        entry = z.read("resources/slavemodule.txt").decode()
+        script = z.read(f"resources/{entry}.py").decode()
+    return re.search(r'activate\("(towcable_[0-9a-f]+)"\)', script).group(1)
+
+
+def carried_code_installed(fmu: str | Path) -> bool:
+    """Whether this machine has run the code an FMU carries (its kernels are then cached)."""
+    return (machine_cache.cache_root() / "code" / carried_package(fmu)).is_dir()
+
+
+# ------------------------------------------------------------------ building
 def build_fmus(outdir: str | Path = "fmus", names: Iterable[str] | None = None, check: bool = False,
-               native_loader: bool = True) -> dict[str, Path]:
+               native_loader: bool = True, standalone: bool = False) -> dict[str, Path]:
     """Build the FMUs of the contract into ``outdir``.
 
     Parameters
@@ -192,9 +288,12 @@ def build_fmus(outdir: str | Path = "fmus", names: Iterable[str] | None = None, 
     check
         Run :func:`check_fmus` on the result.
     native_loader
-        Install the loader layer that lets the FMUs run in hosts without Python
-        (:mod:`towcable_fmu.fmi.native`); without a C compiler or a shared libpython it is
-        left out with a warning.
+        Install the loader layer (:mod:`towcable_fmu.fmi.native`): the FMUs then also run
+        in hosts without Python, report errors whatever the host's logging setting and
+        return ``fmi2Error`` for them. Without a C compiler it is left out with a warning.
+    standalone
+        Also carry a Python runtime (:mod:`towcable_fmu.fmi.runtime`): the FMUs then run
+        on a Linux x86-64 machine without any Python installed (needs the loader layer).
 
     Returns
     -------
@@ -202,13 +301,24 @@ def build_fmus(outdir: str | Path = "fmus", names: Iterable[str] | None = None, 
         FMU name -> path of the ``.fmu`` file.
     """
     outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
     specs = contract.fmus()
     names = list(specs) if names is None else list(names)
+    package, carried = code_bundle.bundle()
+    runtime = None
+    if standalone:
+        from .runtime import runtime_files
+
+        runtime = runtime_files()
     with tempfile.TemporaryDirectory(prefix="towcable_loader_") as tmp:
         loader = native.loader_or_warning(tmp) if native_loader else None
-        paths = {name: build_fmu(specs[name], outdir, loader) for name in names}
+        if standalone and loader is None:
+            raise native.NativeBuildError("a standalone FMU needs the loader layer (a C compiler)")
+        paths = {name: write_archive(outdir / f"{name}.fmu", fmu_files(specs[name], package, carried, loader, runtime))
+                 for name in names}
     if set(names) == set(specs):
-        (outdir / STAMP).write_text(json.dumps({"hash": source_hash(), "fmus": sorted(names)}), encoding="utf-8")
+        (outdir / STAMP).write_text(json.dumps({"hash": source_hash(standalone), "fmus": sorted(names)}),
+                                    encoding="utf-8")
     if check:
         check_fmus(paths.values())
     return paths
@@ -226,6 +336,7 @@ def ensure_fmus(outdir: str | Path = "fmus") -> dict[str, Path]:
     return paths if fresh else build_fmus(outdir)
 
 
+# ------------------------------------------------------------------ validation
 def fmpy_problems(fmu: str | Path) -> list[str]:
     """Problems ``fmpy validate`` reports (empty: none)."""
     from fmpy.validation import validate_fmu
@@ -262,43 +373,3 @@ def check_fmus(fmus: Iterable[str | Path]) -> dict[str, list[str]]:
     if any(problems.values()):
         raise FmuCheckError({k: v for k, v in problems.items() if v})
     return problems
-
-
-def main(argv: list[str] | None = None) -> int:
-    """Command line of ``build_fmu.py``."""
-    import argparse
-
-    parser = argparse.ArgumentParser(prog="build_fmu.py", description="Build the ShipMotion, HeaveCompensation "
-                                     "and TowCable FMUs (FMI 2.0 Co-Simulation, pythonfmu) from the contract.")
-    parser.add_argument("-o", "--output", default="fmus", help="output folder (default: fmus/)")
-    parser.add_argument("--check", action="store_true", help="validate with fmpy validate and fmutool -check")
-    parser.add_argument("--ssp", action="store_true", help="also write the SSP file of the system (TowedCableSystem.ssp)")
-    parser.add_argument("--no-native", action="store_true", help="keep pythonfmu's binary (the FMUs then load "
-                        "only in Python hosts) instead of compiling the loader layer with the C compiler")
-    parser.add_argument("--crosscheck", metavar="DIR", help="also write the FMI Cross-Check artefacts (FMU, "
-                        "_ref.csv, _in.csv, _ref.opt) under DIR/fmus/2.0/cs/linux64/towcable/<version>/")
-    parser.add_argument("names", nargs="*", help="FMUs to build (default: all)")
-    args = parser.parse_args(argv)
-    paths = build_fmus(args.output, args.names or None, native_loader=not args.no_native)
-    for name, path in paths.items():
-        print(f"built {path}")
-    if args.ssp:
-        from .ssp import write_ssp
-
-        print(f"wrote {write_ssp(Path(args.output) / 'TowedCableSystem.ssp', paths)}")
-    if args.crosscheck:
-        from .crosscheck import write_crosscheck
-
-        if set(paths) != set(contract.fmus()):
-            parser.error("--crosscheck needs all three FMUs (give no NAME)")
-
-        for folder in write_crosscheck(paths, args.crosscheck).values():
-            print(f"wrote {folder}")
-    if args.check:
-        try:
-            check_fmus(paths.values())
-        except FmuCheckError as exc:
-            print(exc, file=sys.stderr)
-            return 1
-        print("fmpy validate and fmutool -check: no problems")
-    return 0

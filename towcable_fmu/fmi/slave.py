@@ -1,17 +1,21 @@
 """Base class of the three FMU slaves: variables from the contract, errors as FMI statuses.
 
 pythonfmu 0.7 turns any Python exception that leaves a slave method into ``fmi2Fatal``
-and releases the Python instance (later calls on it are undefined). The slaves must
-therefore never raise: :class:`ContractSlave` wraps every entry point, logs the reason
-through the FMU logger (the host sees it when logging is on) and
+and releases the Python instance (later calls on it are undefined), and its C layer
+returns ``fmi2OK`` from every call that does not raise. The slaves therefore never
+raise: :class:`ContractSlave` wraps every entry point and logs the reason with the
+status the call should have; the FMU's loader layer (``towcable_fmu/fmi/csrc/
+fmu_loader.c``) passes such messages to the host whatever its logging setting and makes
+the call return the most severe status logged during it. So
 
-* returns ``False`` from ``do_step`` (``fmi2Discard``) for a step that cannot be done:
-  non-finite inputs, a step size <= 0, a communication point that is not the model's
-  time, a solver failure — the outputs keep their last valid values (never NaN);
-* for a failed initialisation (unknown scene, out-of-range parameter), logs the message
-  with status ``fmi2Error`` from ``exit_initialization_mode`` and refuses every later
-  step with ``fmi2Discard``. (pythonfmu 0.7 offers no way to return ``fmi2Error`` from
-  Python: its C layer returns ``fmi2OK`` or, on an exception, ``fmi2Fatal``.)
+* a parameter out of the contract's range is an ``fmi2Error`` of the setter (the value
+  is not set), naming the parameter, the value and the range;
+* a parameter or scene that cannot be used (unknown scene, a value the model rejects)
+  is an ``fmi2Error`` of ``fmi2ExitInitializationMode``, with the key, the value and
+  what is allowed; every later step is refused with ``fmi2Error``;
+* a step that cannot be done (non-finite inputs, a step size <= 0, a communication point
+  that is not the model's time, a solver failure) is ``fmi2Discard`` with the reason;
+  the outputs keep their last valid values (never NaN).
 
 Subclasses set ``fmu_name`` (a key of ``[fmus]`` in the contract) and implement
 ``_initialize()``, ``_step(t, dt)`` and optionally ``_model_state()`` /
@@ -32,7 +36,7 @@ import numpy as np
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer, Real, String
 from pythonfmu.enums import Fmi2Status
 
-from .. import contract
+from .. import contract, kernel_cache
 from ..errors import TowcableError
 
 _TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
@@ -116,6 +120,21 @@ def parse_overrides(text: str) -> list[tuple[str, Any]]:
     return [parse_override(item.strip()) for item in items if item.strip()]
 
 
+def _in_range(var: contract.Variable, value: Any) -> bool:
+    """Whether a parameter value lies in the contract's range (always, without one)."""
+    if var.min is None and var.max is None:
+        return True
+    return (isinstance(value, numbers.Real) and not math.isnan(value)
+            and (var.min is None or value >= var.min) and (var.max is None or value <= var.max))
+
+
+def _range_text(var: contract.Variable) -> str:
+    unit = f" {var.unit}" if var.unit and var.unit != "1" else ""
+    if var.min is not None and var.max is not None:
+        return f"[{var.min:g}, {var.max:g}]{unit}"
+    return f">= {var.min:g}{unit}" if var.min is not None else f"<= {var.max:g}{unit}"
+
+
 class ContractSlave(Fmi2Slave):
     """A pythonfmu slave whose variables are those of one FMU of the contract.
 
@@ -167,19 +186,20 @@ class ContractSlave(Fmi2Slave):
         kw: dict[str, Any] = {"description": var.description}
         if var.causality == "parameter":
             kw["causality"] = Fmi2Causality.parameter
-            kw["variability"] = Fmi2Variability.tunable if var.type == "String" else Fmi2Variability.fixed
+            kw["variability"] = Fmi2Variability.fixed  # every parameter acts at initialisation only
             kw["initial"] = Fmi2Initial.exact
 
             def setter(value):
-                if self.initialized and var.type != "String":
+                if self.initialized:
                     self.log(f"parameter '{name}' is fixed after initialisation; the new value is ignored",
                              Fmi2Status.warning)
                     return
-                if self.initialized:
-                    self.log(f"parameter '{name}' takes effect only at initialisation; the new value "
-                             "is ignored", Fmi2Status.warning)
+                value = cast(value)
+                if not _in_range(var, value):
+                    self.log_error(f"parameter {name} = {value!r} is invalid: allowed {_range_text(var)}; "
+                                   "the value is not set")
                     return
-                values[name] = cast(value)
+                values[name] = value
         elif var.causality == "input":
             kw["causality"] = Fmi2Causality.input
             kw["variability"] = Fmi2Variability.discrete if var.type == "Boolean" else Fmi2Variability.continuous
@@ -189,7 +209,7 @@ class ContractSlave(Fmi2Slave):
         else:
             kw["causality"] = Fmi2Causality.output
             kw["variability"] = Fmi2Variability.discrete if var.type == "Boolean" else Fmi2Variability.continuous
-            kw["initial"] = Fmi2Initial.exact
+            kw["initial"] = Fmi2Initial.calculated  # computed at initialisation (an InitialUnknown)
 
             def setter(value):
                 self.log(f"'{name}' is an output and cannot be set", Fmi2Status.warning)
@@ -240,7 +260,12 @@ class ContractSlave(Fmi2Slave):
             self._initialize()
             return True
 
+        compiling = kernel_cache.WATCH.seconds
         ok = self._guard("initialisation failed", run, default=False)
+        compiling = kernel_cache.WATCH.seconds - compiling
+        if compiling > 0.0:
+            self.log(f"{self.instance_name}: compiled the numerical kernels in {compiling:.0f} s (first use of "
+                     f"this code on this machine; cached in {kernel_cache.kernel_folder()})")
         self.in_initialization = False
         if ok:
             self.initialized = True

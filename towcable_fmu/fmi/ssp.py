@@ -4,10 +4,11 @@ Everything comes from the contract: the components and their order (``[system]``
 connectors of each component (its inputs and outputs; diagnostics such as
 ``model_wall_time`` left out), their types and units, the connections (one per signal),
 and the unit definitions. Parameter values (e.g. the ones a ``towcable cosim`` run used)
-are written as inline parameter bindings; the FMUs are stored under ``resources/``.
+are written as inline parameter bindings, in one parameter set named
+:data:`PARAMETER_SET` across the components; the FMUs are stored under ``resources/``.
 
-Tested with libcosim (``libcosimpy``, the Open Simulation Platform) and ``fmpy.ssp``;
-see the README for what ``fmpy.ssp`` cannot do.
+Tested with libcosim (``libcosimpy``), the OSP's ``ecos`` and ``fmpy.ssp``; see the
+README for what ``fmpy.ssp`` cannot do.
 """
 
 from __future__ import annotations
@@ -19,6 +20,9 @@ from typing import Any, Mapping
 
 from .. import contract
 
+#: Name of the parameter set of every component: tools that apply sets by name (the OSP's
+#: ``ecos simulate --parameterSet case``) apply the whole case at once.
+PARAMETER_SET = "case"
 NS = {"ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
       "ssc": "http://ssp-standard.org/SSP1/SystemStructureCommon",
       "ssv": "http://ssp-standard.org/SSP1/SystemStructureParameterValues"}
@@ -78,7 +82,7 @@ def system_structure(parameters: Mapping[str, Mapping[str, Any]] | None = None, 
             bindings = ET.SubElement(comp, _q("ssd:ParameterBindings"))
             binding = ET.SubElement(bindings, _q("ssd:ParameterBinding"))
             pvalues = ET.SubElement(binding, _q("ssd:ParameterValues"))
-            pset = ET.SubElement(pvalues, _q("ssv:ParameterSet"), version="1.0", name=f"{name} parameters")
+            pset = ET.SubElement(pvalues, _q("ssv:ParameterSet"), version="1.0", name=PARAMETER_SET)
             plist = ET.SubElement(pset, _q("ssv:Parameters"))
             for pname, value in values.items():
                 var = spec.variable(pname)

@@ -20,6 +20,9 @@ from ..errors import SceneError
 from .model import Scene
 from .schema import parse
 
+#: The package holding the built-in scenes (``towcable_fmu``, or its copy in an FMU).
+_PACKAGE = __package__.rpartition(".")[0]
+
 if TYPE_CHECKING:
     from ..rigidlink.scene import RigidLinkScene
 
@@ -28,7 +31,7 @@ _INDEX = re.compile(r"^(?P<name>[^\[\]]+)\[(?P<index>\d+)\]$")
 
 def builtin_scene_names() -> list[str]:
     """Names of the scenes shipped with the package, sorted."""
-    folder = resources.files("towcable_fmu") / "scenes"
+    folder = resources.files(_PACKAGE) / "scenes"
     return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
 
 
@@ -45,7 +48,7 @@ def _read_text(name_or_path: str | Path) -> tuple[str, Path | None]:
         hint = f" (did you mean '{close[0]}'?)" if close else ""
         raise SceneError("scene", str(name_or_path), "a built-in scene name (" + ", ".join(names) + ")"
                          + hint + " or a path to a .toml file")
-    res = resources.files("towcable_fmu") / "scenes" / f"{name_or_path}.toml"
+    res = resources.files(_PACKAGE) / "scenes" / f"{name_or_path}.toml"
     return res.read_text(encoding="utf-8"), None
 
 

@@ -2,32 +2,38 @@
  * towcable FMU loader: the binaries/linux64/<model>.so of the towcable FMUs.
  *
  * pythonfmu 0.7's library (kept beside this one as libpythonfmu-export.so) serves the
- * FMI calls with Python but does not link libpython: in a host without Python its
- * Python symbols cannot be resolved. This layer exports the FMI 2.0 Co-Simulation
- * functions and, at the first fmi2Instantiate,
+ * FMI calls with Python but does not link libpython, drops every log message when the
+ * host turned logging off, and returns fmi2OK from a call whose Python code reported an
+ * error. This layer exports the FMI 2.0 Co-Simulation functions and
  *
- * 1. uses the Python already in the process if there is one (fmpy, libcosimpy: the
- *    symbol Py_IsInitialized is visible and returns true);
- * 2. otherwise reads resources/python_env.json (written by towcable_fmu/fmi/native.py at
- *    build time: the interpreter, its shared library and sys.path), loads that libpython
- *    with RTLD_GLOBAL, initialises it as an isolated interpreter (PyConfig: program name
- *    = the recorded executable, so that prefix and a venv are found as by that
- *    executable; module search paths = the recorded sys.path; no signal handlers) and
- *    releases the GIL, as pythonfmu's own initialisation does (PyEval_SaveThread):
- *    pythonfmu then takes the GIL with PyGILState_Ensure in every call, from any thread;
- * 3. loads pythonfmu's library and forwards every FMI call to it; the fmi2Component is
- *    pythonfmu's own.
+ * 1. at the first fmi2Instantiate finds a Python (in this order):
+ *    - the Python already running in the process (fmpy, libcosimpy);
+ *    - the runtime the FMU carries, resources/python/ (a standalone FMU, built with
+ *      build_fmu.py --standalone): resources/python/runtime.txt names its shared
+ *      libpython and its library folder, both relative to resources/python/;
+ *    - the Python of this machine: $TOWCABLE_PYTHON, else python3 on the PATH, asked
+ *      for its shared libpython and sys.path;
+ *    loads that libpython with RTLD_GLOBAL, starts it as an isolated interpreter (its
+ *    module path set explicitly, no signal handlers) and releases the GIL, as
+ *    pythonfmu's own initialisation does; the interpreter is never finalised (numpy and
+ *    numba cannot be re-initialised in a process; later FMUs reuse it);
+ * 2. loads pythonfmu's library and forwards every FMI call to it;
+ * 3. wraps each instance: pythonfmu gets logging always on and a logger of ours, which
+ *    passes to the host's logger every message of status fmi2Discard or worse, and the
+ *    others only as the host asked (loggingOn, fmi2SetDebugLogging categories); each
+ *    call returns the most severe of pythonfmu's status and the statuses logged during
+ *    the call, so an error the model reports is an fmi2Error the host sees.
  *
- * The interpreter started here is never finalised: numpy and numba cannot be
- * re-initialised in a process, and FMUs loaded again later reuse it. A failure (no
- * recorded environment, a missing file) makes fmi2Instantiate log the reason through
- * the host's logger with status fmi2Error and return NULL.
+ * A failure to start (no Python, a missing file) makes fmi2Instantiate log the reason
+ * through the host's logger with status fmi2Error and return NULL.
  */
 #include <Python.h>
 
+#include <dirent.h>
 #include <dlfcn.h>
 #include <limits.h>
 #include <pthread.h>
+#include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -37,8 +43,9 @@
 #include "fmi2Functions.h"
 
 #define REAL_LIBRARY "libpythonfmu-export.so"
-#define ENV_FILE "resources/python_env.json"
-#define MESSAGE_SIZE 2048
+#define RUNTIME_DIR "resources/python"
+#define RUNTIME_FILE RUNTIME_DIR "/runtime.txt"
+#define MESSAGE_SIZE 4096
 
 /* ------------------------------------------------------------------------------------ */
 /* pythonfmu's functions                                                                 */
@@ -101,154 +108,16 @@ static void *real_handle = NULL;
 static pthread_mutex_t load_lock = PTHREAD_MUTEX_INITIALIZER;
 
 /* ------------------------------------------------------------------------------------ */
-/* resources/python_env.json: a flat object of strings, "sys_path" an array of strings   */
+/* small helpers                                                                        */
 
-typedef struct {
-    char *library;
-    char *executable;
-    char **paths;
-    size_t npaths;
-} PythonEnv;
-
-static void env_clear(PythonEnv *env)
+static int exists(const char *path)
 {
-    free(env->library);
-    free(env->executable);
-    for (size_t i = 0; i < env->npaths; i++) free(env->paths[i]);
-    free(env->paths);
-    memset(env, 0, sizeof *env);
+    struct stat st;
+    return stat(path, &st) == 0;
 }
 
-static const char *skip_space(const char *p)
-{
-    while (*p == ' ' || *p == '\n' || *p == '\r' || *p == '\t') p++;
-    return p;
-}
-
-/* Append the UTF-8 encoding of a Basic Multilingual Plane code point. */
-static char *put_utf8(char *out, unsigned code)
-{
-    if (code < 0x80) {
-        *out++ = (char)code;
-    } else if (code < 0x800) {
-        *out++ = (char)(0xC0 | (code >> 6));
-        *out++ = (char)(0x80 | (code & 0x3F));
-    } else {
-        *out++ = (char)(0xE0 | (code >> 12));
-        *out++ = (char)(0x80 | ((code >> 6) & 0x3F));
-        *out++ = (char)(0x80 | (code & 0x3F));
-    }
-    return out;
-}
-
-/* Parse the JSON string at *pp (at its opening quote); a new NUL-terminated buffer or
-   NULL if malformed. A \uXXXX escape becomes at most 3 bytes, never more than its 6. */
-static char *parse_string(const char **pp)
-{
-    const char *p = *pp;
-    if (*p != '"') return NULL;
-    const char *end = ++p;
-    while (*end && *end != '"') end += (*end == '\\' && end[1]) ? 2 : 1;
-    if (*end != '"') return NULL;
-    char *out = malloc((size_t)(end - p) + 1), *o = out;
-    if (!out) return NULL;
-    while (p < end) {
-        if (*p != '\\') {
-            *o++ = *p++;
-            continue;
-        }
-        char c = p[1];
-        p += 2;
-        switch (c) {
-        case '"': case '\\': case '/': *o++ = c; break;
-        case 'b': *o++ = '\b'; break;
-        case 'f': *o++ = '\f'; break;
-        case 'n': *o++ = '\n'; break;
-        case 'r': *o++ = '\r'; break;
-        case 't': *o++ = '\t'; break;
-        case 'u': {
-            unsigned code = 0;
-            int ok = end - p >= 4;
-            for (int i = 0; ok && i < 4; i++) {
-                char h = p[i];
-                code = code * 16 + (unsigned)(h >= '0' && h <= '9' ? h - '0'
-                                              : h >= 'a' && h <= 'f' ? h - 'a' + 10
-                                              : h >= 'A' && h <= 'F' ? h - 'A' + 10 : 0);
-                ok = (h >= '0' && h <= '9') || (h >= 'a' && h <= 'f') || (h >= 'A' && h <= 'F');
-            }
-            if (!ok || code == 0 || (code >= 0xD800 && code < 0xE000)) {
-                free(out);
-                return NULL;
-            }
-            o = put_utf8(o, code);
-            p += 4;
-            break;
-        }
-        default: free(out); return NULL;
-        }
-    }
-    *o = '\0';
-    *pp = end + 1;
-    return out;
-}
-
-/* Parse the array of strings at *pp into env->paths; 0 if malformed. */
-static int parse_paths(const char **pp, PythonEnv *env)
-{
-    const char *p = skip_space(*pp + 1);
-    while (*p != ']') {
-        char *item = parse_string(&p);
-        if (!item) return 0;
-        char **grown = realloc(env->paths, (env->npaths + 1) * sizeof *grown);
-        if (!grown) {
-            free(item);
-            return 0;
-        }
-        env->paths = grown;
-        env->paths[env->npaths++] = item;
-        p = skip_space(p);
-        if (*p == ',') p = skip_space(p + 1);
-        else if (*p != ']') return 0;
-    }
-    *pp = p + 1;
-    return 1;
-}
-
-static int parse_env(const char *text, PythonEnv *env)
-{
-    const char *p = skip_space(text);
-    if (*p++ != '{') return 0;
-    p = skip_space(p);
-    while (*p != '}') {
-        char *key = parse_string(&p);
-        if (!key) return 0;
-        p = skip_space(p);
-        int ok = *p++ == ':';
-        p = skip_space(p);
-        if (ok && *p == '[') {
-            ok = strcmp(key, "sys_path") == 0 && env->npaths == 0 && parse_paths(&p, env);
-        } else if (ok) {
-            char *value = parse_string(&p);
-            char **slot = strcmp(key, "library") == 0 ? &env->library
-                        : strcmp(key, "executable") == 0 ? &env->executable : NULL;
-            ok = value != NULL;
-            if (slot && ok) {
-                free(*slot);
-                *slot = value;
-            } else {
-                free(value);
-            }
-        }
-        free(key);
-        if (!ok) return 0;
-        p = skip_space(p);
-        if (*p == ',') p = skip_space(p + 1);
-        else if (*p != '}') return 0;
-    }
-    return env->library && env->executable && env->npaths > 0;
-}
-
-static char *read_file(const char *path)
+/* Read a text file into a new NUL-terminated buffer (NULL if it cannot be read). */
+static char *read_text(const char *path)
 {
     FILE *f = fopen(path, "rb");
     if (!f) return NULL;
@@ -266,6 +135,14 @@ static char *read_file(const char *path)
     return text;
 }
 
+/* Split text into its non-empty lines (in place); the number of lines. */
+static size_t split_lines(char *text, char **lines, size_t max)
+{
+    size_t n = 0;
+    for (char *line = strtok(text, "\r\n"); line && n < max; line = strtok(NULL, "\r\n")) lines[n++] = line;
+    return n;
+}
+
 /* ------------------------------------------------------------------------------------ */
 /* starting Python                                                                      */
 
@@ -275,11 +152,17 @@ static int python_running(void)
     return initialized != NULL && initialized();
 }
 
-static int exists(const char *path)
-{
-    struct stat st;
-    return stat(path, &st) == 0;
-}
+/* Where a Python is: its shared library, its home (or NULL), the program name to give it
+   and the module search path. */
+#define MAX_PATHS 64
+typedef struct {
+    char library[PATH_MAX];
+    char home[PATH_MAX];
+    char program[PATH_MAX];
+    char *paths[MAX_PATHS];
+    size_t npaths;
+    char *storage; /* owns the path strings */
+} PythonPlace;
 
 typedef struct {
     __typeof__(Py_IsInitialized) *IsInitialized;
@@ -292,19 +175,111 @@ typedef struct {
     __typeof__(PyConfig_Clear) *ConfigClear;
     __typeof__(PyStatus_Exception) *StatusException;
     __typeof__(PyEval_SaveThread) *SaveThread;
+    __typeof__(Py_GetVersion) *GetVersion;
 } PythonApi;
 
-/* Initialise the interpreter of env (isolated, its sys.path) and release the GIL. */
-static int initialize_python(const PythonApi *py, const PythonEnv *env, char *err, size_t n)
+/* The standalone runtime in resources/python (0 if the FMU carries none). */
+static int carried_python(const char *root, PythonPlace *place, char *err, size_t n)
+{
+    char path[PATH_MAX + 64];
+    snprintf(path, sizeof path, "%s/" RUNTIME_FILE, root);
+    char *text = read_text(path);
+    if (!text) return 0;
+    char *lines[2];
+    size_t count = split_lines(text, lines, 2);
+    int ok = count == 2;
+    if (ok) {
+        snprintf(place->home, sizeof place->home, "%s/" RUNTIME_DIR, root);
+        snprintf(place->library, sizeof place->library, "%s/%s", place->home, lines[0]);
+        snprintf(place->program, sizeof place->program, "%s/bin/python3", place->home);
+        /* the library folder, its lib-dynload and site-packages */
+        size_t size = 3 * (strlen(place->home) + strlen(lines[1]) + 32);
+        place->storage = malloc(size);
+        ok = place->storage != NULL;
+        if (ok) {
+            char *p = place->storage;
+            const char *suffix[] = {"", "/lib-dynload", "/site-packages"};
+            for (int i = 0; i < 3; i++) {
+                place->paths[place->npaths++] = p;
+                p += sprintf(p, "%s/%s%s", place->home, lines[1], suffix[i]) + 1;
+            }
+        }
+    }
+    if (!ok) snprintf(err, n, "%s is malformed (two lines: the shared libpython and the library folder)", path);
+    free(text);
+    return ok ? 1 : -1;
+}
+
+/* The Python of this machine: $TOWCABLE_PYTHON or python3 on the PATH, asked for its
+   shared library, executable and sys.path (one per line). */
+static int machine_python(PythonPlace *place, char *err, size_t n)
+{
+    const char *python = getenv("TOWCABLE_PYTHON");
+    if (!python || !*python) python = "python3";
+    static const char script[] =
+        "import os, sys, sysconfig; v = sysconfig.get_config_var; "
+        "libs = [os.path.join(v('LIBDIR') or '', x) for x in (v('INSTSONAME'), v('LDLIBRARY')) if x and '.so' in x]; "
+        "libs = [x for x in libs if os.path.isfile(x)]; "
+        "print(libs[0] if libs else '-'); print(sys.executable); "
+        "[print(p) for p in sys.path if p and os.path.exists(p)]";
+    char command[PATH_MAX + sizeof script + 64];
+    if (strchr(python, '\'')) {
+        snprintf(err, n, "$TOWCABLE_PYTHON (%s) must not contain a quote", python);
+        return 0;
+    }
+    snprintf(command, sizeof command, "'%s' -c \"%s\" 2>/dev/null", python, script);
+    FILE *pipe = popen(command, "r");
+    size_t size = 0, cap = 0;
+    char *text = NULL;
+    if (pipe) {
+        char buffer[4096];
+        size_t got;
+        while ((got = fread(buffer, 1, sizeof buffer, pipe)) > 0) {
+            if (size + got + 1 > cap) {
+                cap = 2 * (size + got + 1);
+                char *grown = realloc(text, cap);
+                if (!grown) break;
+                text = grown;
+            }
+            memcpy(text + size, buffer, got);
+            size += got;
+        }
+        pclose(pipe);
+    }
+    if (text) text[size] = '\0';
+    char *lines[MAX_PATHS + 2];
+    size_t count = text ? split_lines(text, lines, MAX_PATHS + 2) : 0;
+    if (count < 3 || strcmp(lines[0], "-") == 0) {
+        snprintf(err, n, "this FMU needs a Python: it runs inside Python hosts (fmpy, libcosimpy), or in other "
+                 "hosts with a Python 3 that has a shared libpython and the packages of the FMU's "
+                 "resources/requirements.txt, found as $TOWCABLE_PYTHON or python3 on the PATH (%s: %s); "
+                 "for hosts without Python use the standalone FMU (python build_fmu.py --standalone)",
+                 python, count == 0 ? "not found or failed" : "it has no shared libpython");
+        free(text);
+        return 0;
+    }
+    snprintf(place->library, sizeof place->library, "%s", lines[0]);
+    snprintf(place->program, sizeof place->program, "%s", lines[1]);
+    place->home[0] = '\0';
+    place->storage = text;
+    for (size_t i = 2; i < count; i++) place->paths[place->npaths++] = lines[i];
+    return 1;
+}
+
+/* Initialise the interpreter of place (isolated, its module path) and release the GIL. */
+static int initialize_python(const PythonApi *py, const PythonPlace *place, char *err, size_t n)
 {
     PyConfig config;
     py->InitIsolatedConfig(&config);
-    PyStatus status = py->SetBytesString(&config, &config.program_name, env->executable);
+    PyStatus status = py->SetBytesString(&config, &config.program_name, place->program);
+    if (!py->StatusException(status) && place->home[0])
+        status = py->SetBytesString(&config, &config.home, place->home);
     config.module_search_paths_set = 1;
-    for (size_t i = 0; i < env->npaths && !py->StatusException(status); i++) {
-        wchar_t *wide = py->DecodeLocale(env->paths[i], NULL);
+    config.install_signal_handlers = 0;
+    for (size_t i = 0; i < place->npaths && !py->StatusException(status); i++) {
+        wchar_t *wide = py->DecodeLocale(place->paths[i], NULL);
         if (!wide) {
-            snprintf(err, n, "cannot decode the path %s of " ENV_FILE, env->paths[i]);
+            snprintf(err, n, "cannot decode the module path %s", place->paths[i]);
             py->ConfigClear(&config);
             return 0;
         }
@@ -314,7 +289,7 @@ static int initialize_python(const PythonApi *py, const PythonEnv *env, char *er
     if (!py->StatusException(status)) status = py->InitializeFromConfig(&config);
     py->ConfigClear(&config);
     if (py->StatusException(status)) {
-        snprintf(err, n, "Python (%s) failed to start: %s%s%s", env->executable,
+        snprintf(err, n, "Python (%s) failed to start: %s%s%s", place->library,
                  status.func ? status.func : "", status.func ? ": " : "",
                  status.err_msg ? status.err_msg : "unknown error");
         return 0;
@@ -323,55 +298,51 @@ static int initialize_python(const PythonApi *py, const PythonEnv *env, char *er
     return 1;
 }
 
-/* Load and start the Python of resources/python_env.json unless one is running. */
-static int start_python(const char *root, char *err, size_t n)
+/* Load and start the Python of place. */
+static int start_place(const PythonPlace *place, char *err, size_t n)
 {
-    char path[PATH_MAX + 64];
-    snprintf(path, sizeof path, "%s/%s", root, ENV_FILE);
-    char *text = read_file(path);
-    if (!text) {
-        snprintf(err, n, "this FMU needs the Python environment it was built with and found no "
-                 "record of it: cannot read %s", path);
+    if (!exists(place->library)) {
+        snprintf(err, n, "the Python library %s does not exist", place->library);
         return 0;
     }
-    PythonEnv env = {0};
-    int ok = parse_env(text, &env);
-    free(text);
-    if (!ok) {
-        snprintf(err, n, "%s is malformed (it needs \"library\", \"executable\" and \"sys_path\")", path);
-        env_clear(&env);
-        return 0;
-    }
-    const char *missing = !exists(env.executable) ? env.executable
-                        : !exists(env.library) ? env.library : NULL;
-    if (missing) {
-        snprintf(err, n, "the Python environment this FMU was built with is missing: %s does not "
-                 "exist (recorded in %s; install that environment or rebuild the FMU with "
-                 "build_fmu.py in the Python environment of this machine)", missing, path);
-        env_clear(&env);
-        return 0;
-    }
-    void *lib = dlopen(env.library, RTLD_NOW | RTLD_GLOBAL); /* kept: Python stays loaded */
+    void *lib = dlopen(place->library, RTLD_NOW | RTLD_GLOBAL); /* kept: Python stays loaded */
     PythonApi py;
     void *symbols[] = {
         dlsym(lib, "Py_IsInitialized"), dlsym(lib, "PyConfig_InitIsolatedConfig"),
         dlsym(lib, "PyConfig_SetBytesString"), dlsym(lib, "PyWideStringList_Append"),
         dlsym(lib, "Py_DecodeLocale"), dlsym(lib, "PyMem_RawFree"),
         dlsym(lib, "Py_InitializeFromConfig"), dlsym(lib, "PyConfig_Clear"),
-        dlsym(lib, "PyStatus_Exception"), dlsym(lib, "PyEval_SaveThread"),
+        dlsym(lib, "PyStatus_Exception"), dlsym(lib, "PyEval_SaveThread"), dlsym(lib, "Py_GetVersion"),
     };
-    ok = lib != NULL;
+    int ok = lib != NULL;
     for (size_t i = 0; ok && i < sizeof symbols / sizeof *symbols; i++) ok = symbols[i] != NULL;
     if (!ok) {
-        snprintf(err, n, "cannot load the Python library %s: %s", env.library,
+        snprintf(err, n, "cannot load the Python library %s: %s", place->library,
                  lib ? "it lacks the PyConfig API (Python >= 3.8 needed)" : dlerror());
-        env_clear(&env);
         return 0;
     }
     _Static_assert(sizeof py == sizeof symbols, "one symbol per PythonApi member");
     memcpy(&py, symbols, sizeof py);
-    ok = py.IsInitialized() || initialize_python(&py, &env, err, n);
-    env_clear(&env);
+    /* PyConfig's layout is that of the headers this layer was compiled with */
+    char expected[16];
+    snprintf(expected, sizeof expected, "%d.%d.", PY_MAJOR_VERSION, PY_MINOR_VERSION);
+    if (strncmp(py.GetVersion(), expected, strlen(expected)) != 0) {
+        snprintf(err, n, "the Python library %s is version %.12s, but this FMU was built for Python %d.%d "
+                 "(set TOWCABLE_PYTHON to a Python %d.%d, or rebuild the FMU with it)", place->library,
+                 py.GetVersion(), PY_MAJOR_VERSION, PY_MINOR_VERSION, PY_MAJOR_VERSION, PY_MINOR_VERSION);
+        return 0;
+    }
+    return py.IsInitialized() || initialize_python(&py, place, err, n);
+}
+
+static int start_python(const char *root, char *err, size_t n)
+{
+    PythonPlace place;
+    memset(&place, 0, sizeof place);
+    int found = carried_python(root, &place, err, n);
+    if (found == 0) found = machine_python(&place, err, n);
+    int ok = found == 1 && start_place(&place, err, n);
+    free(place.storage);
     return ok;
 }
 
@@ -434,20 +405,68 @@ static int load_real(char *err, size_t n)
     return 1;
 }
 
-/* Log msg through the host's logger: '%' doubled, as the logger formats printf-style. */
-static void log_error(const fmi2CallbackFunctions *functions, fmi2String instance, const char *msg)
+/* ------------------------------------------------------------------------------------ */
+/* instances: the host's logger behind ours, the worst status of a call                 */
+
+typedef struct {
+    fmi2Component real;              /* pythonfmu's component */
+    fmi2CallbackFunctions host;      /* the host's callbacks */
+    fmi2CallbackFunctions relay;     /* what pythonfmu gets: our logger, this instance as environment */
+    int logging_on;                  /* what the host asked for */
+    char **categories;               /* the host's categories; none: all */
+    size_t ncategories;
+    fmi2Status worst;                /* most severe status logged during the current call */
+} Instance;
+
+/* Pass text to a logger as the standard wants it: a printf format, '%' doubled. */
+static void send_text(const fmi2CallbackFunctions *to, fmi2String instance, fmi2Status status,
+                      fmi2String category, const char *text)
 {
     char escaped[2 * MESSAGE_SIZE];
     size_t j = 0;
-    for (size_t i = 0; msg[i] && j + 2 < sizeof escaped; i++) {
-        if (msg[i] == '%') escaped[j++] = '%';
-        escaped[j++] = msg[i];
+    for (size_t i = 0; text[i] && j + 2 < sizeof escaped; i++) {
+        if (text[i] == '%') escaped[j++] = '%';
+        escaped[j++] = text[i];
     }
     escaped[j] = '\0';
-    if (functions && functions->logger)
-        functions->logger(functions->componentEnvironment, instance, fmi2Error, "logStatusError", escaped);
+    if (to && to->logger)
+        to->logger(to->componentEnvironment, instance, status, category, escaped);
     else
-        fprintf(stderr, "%s: %s\n", instance ? instance : "FMU", msg);
+        fprintf(stderr, "%s: %s\n", instance ? instance : "FMU", text);
+}
+
+static int category_enabled(const Instance *inst, const char *category)
+{
+    if (inst->ncategories == 0) return 1;
+    for (size_t i = 0; i < inst->ncategories; i++)
+        if (strcmp(inst->categories[i], category) == 0 || strcmp(inst->categories[i], "logAll") == 0) return 1;
+    return 0;
+}
+
+/* pythonfmu's messages are plain text (it passes no format arguments). */
+static void relay_logger(fmi2ComponentEnvironment env, fmi2String instance, fmi2Status status,
+                         fmi2String category, fmi2String message, ...)
+{
+    Instance *inst = (Instance *)env;
+    if (status > inst->worst && status != fmi2Pending) inst->worst = status;
+    const char *cat = category ? category : "";
+    if (status >= fmi2Discard || (inst->logging_on && category_enabled(inst, cat)))
+        send_text(&inst->host, instance, status, cat, message ? message : "");
+}
+
+static void clear_categories(Instance *inst)
+{
+    for (size_t i = 0; i < inst->ncategories; i++) free(inst->categories[i]);
+    free(inst->categories);
+    inst->categories = NULL;
+    inst->ncategories = 0;
+}
+
+/* The status of a call: pythonfmu's, or a more severe one logged during it. */
+static fmi2Status outcome(const Instance *inst, fmi2Status status)
+{
+    if (status == fmi2Pending || status >= inst->worst) return status;
+    return inst->worst;
 }
 
 /* ------------------------------------------------------------------------------------ */
@@ -466,80 +485,129 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     int ok = real_handle != NULL || load_real(err, sizeof err);
     pthread_mutex_unlock(&load_lock);
     if (!ok) {
-        log_error(functions, instanceName, err);
+        send_text(functions, instanceName, fmi2Error, "logStatusError", err);
         return NULL;
     }
-    return real.Instantiate(instanceName, fmuType, fmuGUID, fmuResourceLocation, functions, visible, loggingOn);
+    Instance *inst = calloc(1, sizeof *inst);
+    if (!inst) {
+        send_text(functions, instanceName, fmi2Error, "logStatusError", "out of memory");
+        return NULL;
+    }
+    if (functions) inst->host = *functions;
+    inst->relay = inst->host;
+    inst->relay.logger = relay_logger;
+    inst->relay.componentEnvironment = inst;
+    inst->logging_on = loggingOn;
+    inst->real = real.Instantiate(instanceName, fmuType, fmuGUID, fmuResourceLocation, &inst->relay, visible,
+                                  fmi2True);
+    if (!inst->real) {
+        if (inst->worst < fmi2Error)
+            send_text(functions, instanceName, fmi2Error, "logStatusError",
+                      "pythonfmu could not instantiate the model (no message)");
+        free(inst);
+        return NULL;
+    }
+    return inst;
 }
-
-/* Forward to pythonfmu; before a successful fmi2Instantiate there is no component. */
-#define FORWARD(name, ...) return real_handle ? real.name(__VA_ARGS__) : fmi2Error
 
 void fmi2FreeInstance(fmi2Component c)
 {
-    if (real_handle) real.FreeInstance(c);
+    Instance *inst = (Instance *)c;
+    if (!inst) return;
+    real.FreeInstance(inst->real);
+    clear_categories(inst);
+    free(inst);
 }
 
 fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n, const fmi2String cat[])
-{ FORWARD(SetDebugLogging, c, on, n, cat); }
+{
+    Instance *inst = (Instance *)c;
+    if (!inst) return fmi2Error;
+    clear_categories(inst);
+    inst->logging_on = on;
+    if (on && n > 0) {
+        inst->categories = calloc(n, sizeof *inst->categories);
+        for (size_t i = 0; inst->categories && i < n; i++) {
+            inst->categories[i] = strdup(cat[i] ? cat[i] : "");
+            inst->ncategories = i + 1;
+        }
+    }
+    return fmi2OK;
+}
+
+/* Forward to pythonfmu with its component; the status as outcome() says. */
+#define FORWARD(name, ...)                                              \
+    do {                                                                \
+        Instance *inst = (Instance *)c;                                 \
+        if (!inst) return fmi2Error;                                    \
+        inst->worst = fmi2OK;                                           \
+        return outcome(inst, real.name(inst->real, __VA_ARGS__));       \
+    } while (0)
+#define FORWARD0(name)                                                  \
+    do {                                                                \
+        Instance *inst = (Instance *)c;                                 \
+        if (!inst) return fmi2Error;                                    \
+        inst->worst = fmi2OK;                                           \
+        return outcome(inst, real.name(inst->real));                    \
+    } while (0)
 
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tolDefined, fmi2Real tol, fmi2Real start,
                                fmi2Boolean stopDefined, fmi2Real stop)
-{ FORWARD(SetupExperiment, c, tolDefined, tol, start, stopDefined, stop); }
+{ FORWARD(SetupExperiment, tolDefined, tol, start, stopDefined, stop); }
 
-fmi2Status fmi2EnterInitializationMode(fmi2Component c) { FORWARD(EnterInitializationMode, c); }
-fmi2Status fmi2ExitInitializationMode(fmi2Component c) { FORWARD(ExitInitializationMode, c); }
-fmi2Status fmi2Terminate(fmi2Component c) { FORWARD(Terminate, c); }
-fmi2Status fmi2Reset(fmi2Component c) { FORWARD(Reset, c); }
+fmi2Status fmi2EnterInitializationMode(fmi2Component c) { FORWARD0(EnterInitializationMode); }
+fmi2Status fmi2ExitInitializationMode(fmi2Component c) { FORWARD0(ExitInitializationMode); }
+fmi2Status fmi2Terminate(fmi2Component c) { FORWARD0(Terminate); }
+fmi2Status fmi2Reset(fmi2Component c) { FORWARD0(Reset); }
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Real v[])
-{ FORWARD(GetReal, c, vr, n, v); }
+{ FORWARD(GetReal, vr, n, v); }
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Integer v[])
-{ FORWARD(GetInteger, c, vr, n, v); }
+{ FORWARD(GetInteger, vr, n, v); }
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Boolean v[])
-{ FORWARD(GetBoolean, c, vr, n, v); }
+{ FORWARD(GetBoolean, vr, n, v); }
 fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2String v[])
-{ FORWARD(GetString, c, vr, n, v); }
+{ FORWARD(GetString, vr, n, v); }
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Real v[])
-{ FORWARD(SetReal, c, vr, n, v); }
+{ FORWARD(SetReal, vr, n, v); }
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Integer v[])
-{ FORWARD(SetInteger, c, vr, n, v); }
+{ FORWARD(SetInteger, vr, n, v); }
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Boolean v[])
-{ FORWARD(SetBoolean, c, vr, n, v); }
+{ FORWARD(SetBoolean, vr, n, v); }
 fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2String v[])
-{ FORWARD(SetString, c, vr, n, v); }
+{ FORWARD(SetString, vr, n, v); }
 
-fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s) { FORWARD(GetFMUstate, c, s); }
-fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s) { FORWARD(SetFMUstate, c, s); }
-fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s) { FORWARD(FreeFMUstate, c, s); }
+fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s) { FORWARD(GetFMUstate, s); }
+fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s) { FORWARD(SetFMUstate, s); }
+fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s) { FORWARD(FreeFMUstate, s); }
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate s, size_t *size)
-{ FORWARD(SerializedFMUstateSize, c, s, size); }
+{ FORWARD(SerializedFMUstateSize, s, size); }
 fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate s, fmi2Byte b[], size_t size)
-{ FORWARD(SerializeFMUstate, c, s, b, size); }
+{ FORWARD(SerializeFMUstate, s, b, size); }
 fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte b[], size_t size, fmi2FMUstate *s)
-{ FORWARD(DeSerializeFMUstate, c, b, size, s); }
+{ FORWARD(DeSerializeFMUstate, b, size, s); }
 
 fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference u[], size_t nu,
                                         const fmi2ValueReference z[], size_t nz, const fmi2Real dv[],
                                         fmi2Real dz[])
-{ FORWARD(GetDirectionalDerivative, c, u, nu, z, nz, dv, dz); }
+{ FORWARD(GetDirectionalDerivative, u, nu, z, nz, dv, dz); }
 
 fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                                        const fmi2Integer order[], const fmi2Real v[])
-{ FORWARD(SetRealInputDerivatives, c, vr, n, order, v); }
+{ FORWARD(SetRealInputDerivatives, vr, n, order, v); }
 fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                                         const fmi2Integer order[], fmi2Real v[])
-{ FORWARD(GetRealOutputDerivatives, c, vr, n, order, v); }
+{ FORWARD(GetRealOutputDerivatives, vr, n, order, v); }
 
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean noSetPrior)
-{ FORWARD(DoStep, c, t, h, noSetPrior); }
-fmi2Status fmi2CancelStep(fmi2Component c) { FORWARD(CancelStep, c); }
+{ FORWARD(DoStep, t, h, noSetPrior); }
+fmi2Status fmi2CancelStep(fmi2Component c) { FORWARD0(CancelStep); }
 
-fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind k, fmi2Status *v) { FORWARD(GetStatus, c, k, v); }
-fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind k, fmi2Real *v) { FORWARD(GetRealStatus, c, k, v); }
+fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind k, fmi2Status *v) { FORWARD(GetStatus, k, v); }
+fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind k, fmi2Real *v) { FORWARD(GetRealStatus, k, v); }
 fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind k, fmi2Integer *v)
-{ FORWARD(GetIntegerStatus, c, k, v); }
+{ FORWARD(GetIntegerStatus, k, v); }
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind k, fmi2Boolean *v)
-{ FORWARD(GetBooleanStatus, c, k, v); }
+{ FORWARD(GetBooleanStatus, k, v); }
 fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind k, fmi2String *v)
-{ FORWARD(GetStringStatus, c, k, v); }
+{ FORWARD(GetStringStatus, k, v); }
