@@ -234,9 +234,9 @@ def tables(results: dict) -> str:
                      f"| {scale(volume, std):.2f} |")
     for row in results["filters"]:
         s = row["sphere"]
-        lines.append(f"| {row['order']} | {row['cutoff_hz']:g} | {row['half_power_hz']:.3f} | {row['bandwidth_hz']:.3f} "
-                     f"| {_stat(s['volume_cm3'], 2)} | {_stat(s['std_cm'][0], 2)} | {_stat(s['std_cm'][1], 2)} "
-                     f"| {_stat(s['std_cm'][2], 3)} | {_stat(s['scale'], 2)} |")
+        lines.append(f"| {row['order']} | {row['cutoff_hz']:g} | {row['half_power_hz']:.3f} "
+                     f"| {row['bandwidth_hz']:.3f} | {_stat(s['volume_cm3'], 2)} | {_stat(s['std_cm'][0], 2)} "
+                     f"| {_stat(s['std_cm'][1], 2)} | {_stat(s['std_cm'][2], 3)} | {_stat(s['scale'], 2)} |")
     lines += ["", "k: the ellipsoid's radii over the standard deviations, (V / (4/3 pi s_X s_Y s_Z))^(1/3); "
               "2.80 for normally distributed positions."]
     lines += ["", "The noise bandwidth B [Hz] at which our median reaches Table 4's value (orders 4 and 8 together, "

@@ -214,9 +214,10 @@ def tables(results: dict) -> str:
              "| least tension along the rope, raw | pull at the release |",
              "|---|---|---|---|---|---|---|---|"]
     for row in cases.values():
+        errors = _errors(row["tension_filtered"], row["measured_tension"], 1)
         lines.append(f"| {row['label']} | {_range(row['measured_tension'], 1)} | {row['reference_tension_error']:.1f} "
-                     f"| {_range(row['tension_filtered'], 1)} | {_errors(row['tension_filtered'], row['measured_tension'], 1)} "
-                     f"| {_range(row['tension_raw'], 1)} | {row['tension_min_raw']:.1f} | {row['tension_at_release']:.1f} |")
+                     f"| {_range(row['tension_filtered'], 1)} | {errors} | {_range(row['tension_raw'], 1)} "
+                     f"| {row['tension_min_raw']:.1f} | {row['tension_at_release']:.1f} |")
     lines += ["", "Rope angle below the horizontal [deg], 0-10 s: the chord of the last 13.2 cm of rope "
               "(the camera's two markers); the model's wrap angle (`contact.wrap_angle`, the turn between "
               "meeting and leaving the pulley) beside it.", "",
@@ -224,8 +225,9 @@ def tables(results: dict) -> str:
               "| at the release | wrap angle, filtered | wrap angle, raw |", "|---|---|---|---|---|---|---|---|---|"]
     for row in cases.values():
         if "measured_angle" in row:
+            errors = _errors(row["angle_filtered"], row["measured_angle"], 1)
             lines.append(f"| {row['label']} | {_range(row['measured_angle'], 1)} | {row['reference_angle_error']:.2f} "
-                         f"| {_range(row['angle_filtered'], 1)} | {_errors(row['angle_filtered'], row['measured_angle'], 1)} "
+                         f"| {_range(row['angle_filtered'], 1)} | {errors} "
                          f"| {_range(row['angle_raw'], 1)} | {row['angle_at_release']:.2f} "
                          f"| {_range(row['wrap_filtered'], 1)} | {_range(row['wrap_raw'], 1)} |")
         else:
