@@ -16,7 +16,7 @@ import numpy as np
 from . import drive as drive_poly
 from . import kernel_cache
 from .ancf import element, initial_shape, measures
-from .ancf.mesh import Mesh, build_mesh, build_model, winch_radius
+from .ancf.mesh import Mesh, build_mesh, build_model, held_load_forces, winch_radius
 from .ancf.prescribed import apply_prescribed
 from .ancf.system import CableModel, residual
 from .contact.cable import surface_summary
@@ -159,6 +159,9 @@ class Simulation:
                    setpoint: tuple[float, float] | None = None, statics: bool | None = None) -> dict[str, float]:
         """Lay out the initial shape, solve the statics and set consistent accelerations.
 
+        A rigid load with ``held = true`` is held in the statics along the cable's initial
+        direction and let go at ``t0`` (:func:`~towcable_fmu.ancf.mesh.held_load_forces`).
+
         Parameters
         ----------
         t0
@@ -204,6 +207,8 @@ class Simulation:
         if run_statics:
             cfg = self.scene.statics
             steady = self.model._replace(water=self.model.water._replace(turb=np.zeros((0, 3))))
+            if self.scene.load is not None and self.scene.load.held:  # released at t0 (the run's own loads)
+                steady = steady._replace(f_const=held_load_forces(self.scene, steady))
             self.statics = solve_statics(steady, st.q, ship0, st.phi, t0, tolerance=cfg.tolerance,
                                          max_iterations=cfg.max_iterations)
             st.q[:] = self.statics.q

@@ -385,6 +385,10 @@ class RigidLoad:
     length_pi: float = spec(unit="m", gt=0.0, doc="L_PI: distance from the attachment to the centre of inertia")
     length_pg: float = spec(unit="m", gt=0.0, doc="L_PG: distance from the attachment to the centre of gravity")
     stiffness: float = spec(1e6, unit="N", gt=0.0, doc="k_L: axial stiffness of the link P-I (per unit strain)")
+    held: bool = spec(False, doc="true: the statics hold the load at rest with the cable along "
+                                 "cable.initial.direction (the holder carries the weight's component normal "
+                                 "to it) and the run starts as the load is let go (the release of Westin "
+                                 "2018, section 4.1); false: the statics let the load hang")
 
     def validate(self, key: str) -> None:
         """Cross-field checks."""
@@ -472,6 +476,9 @@ class Scene:
         if self.load is not None and (self.towbody is not None or self.cable.bottom.type != "free"
                                       or self.cable.bottom.mass > 0.0):
             raise SceneError("load", "[load]", "a free bottom end without [towbody] or bottom mass")
+        if self.load is not None and self.load.held and not self.statics.enabled:
+            raise SceneError("load.held", True, "false when statics.enabled = false (the load is held in the "
+                                                "static equilibrium)")
         if self.towbody is not None and self.cable.bottom.mass > 0.0:
             raise SceneError("cable.bottom.mass", self.cable.bottom.mass, "0 with a [towbody] (give its mass there)")
         if self.free_floating and self.statics.enabled and self.sheave is None:
