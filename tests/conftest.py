@@ -41,3 +41,17 @@ def fmu_paths(tmp_path_factory):
     from towcable_fmu.fmi.build import build_fmus
 
     return build_fmus(tmp_path_factory.mktemp("fmus"))
+
+
+@pytest.fixture(scope="session")
+def host(tmp_path_factory):
+    """The C host of the FMU tests (tests/c_host/fmu_host.c), compiled with the system C compiler."""
+    import subprocess
+    from pathlib import Path
+
+    from towcable_fmu.fmi import native
+
+    exe = tmp_path_factory.mktemp("c_host") / "fmu_host"
+    subprocess.run([native.c_compiler(), "-O1", "-g", "-Wall", "-Wextra", "-Werror", f"-I{native.fmi_headers()}",
+                    str(Path(__file__).parent / "c_host" / "fmu_host.c"), "-o", str(exe), "-ldl", "-lm"], check=True)
+    return exe

@@ -26,7 +26,6 @@ from towcable_fmu import contract
 from towcable_fmu.fmi import crosscheck as xc
 from towcable_fmu.fmi import native
 
-HOST_SOURCE = Path(__file__).parent / "c_host" / "fmu_host.c"
 VALGRIND = shutil.which("valgrind") or "/usr/bin/valgrind"
 needs_valgrind = pytest.mark.skipif(not os.access(VALGRIND, os.X_OK), reason="no valgrind")
 MODELS = ["ShipMotion", "HeaveCompensation", "TowCable"]
@@ -37,15 +36,6 @@ pytestmark = pytest.mark.skipif(native.c_compiler() is None, reason="no C compil
 
 
 # ------------------------------------------------------------------------------ fixtures
-@pytest.fixture(scope="module")
-def host(tmp_path_factory) -> Path:
-    """The C host, compiled with the system C compiler."""
-    exe = tmp_path_factory.mktemp("c_host") / "fmu_host"
-    subprocess.run([native.c_compiler(), "-O1", "-g", "-Wall", "-Wextra", "-Werror", f"-I{native.fmi_headers()}",
-                    str(HOST_SOURCE), "-o", str(exe), "-ldl", "-lm"], check=True)
-    return exe
-
-
 @pytest.fixture(scope="module")
 def crosscheck(fmu_paths, tmp_path_factory) -> dict[str, Path]:
     """The cross-check folders of the three FMUs (fmpy reference runs)."""

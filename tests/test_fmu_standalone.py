@@ -28,7 +28,7 @@ from towcable_fmu.fmi import crosscheck as xc
 from towcable_fmu.fmi import native
 from towcable_fmu.fmi.runtime import glibc_needed
 
-from test_fmu_native import assert_round_off, host, write_plan  # noqa: F401 - host is a fixture
+from test_fmu_native import assert_round_off, write_plan
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Zipped size each standalone FMU must stay under [bytes] (issue 17).
@@ -71,7 +71,7 @@ def without_python(command: list[str], cwd: Path, env: dict[str, str] | None = N
     (plus ``env``); first proves that no libpython and no python program is left."""
     hide = [f"mount -t tmpfs none '{p}'" for p in python_installations()]
     hide += [f"mount --bind /dev/null '{p}'" for p in python_programs()]
-    probe = ("if ls /usr/lib/python3* /usr/local/lib/python3* 2>/dev/null | grep -q .; then exit 97; fi; "
+    probe = ("if find /usr/lib/python3* /usr/local/lib/python3* -mindepth 1 2>/dev/null | grep -q .; then exit 97; fi; "
              f"test ! -e '{sys.base_prefix}/lib/libpython3.so' || exit 98; "
              "for p in /usr/bin/python3*; do test -s \"$p\" && exit 99; done; true")
     settings = " ".join(f"{k}='{v}'" for k, v in (env or {}).items())
@@ -120,17 +120,24 @@ def test_standalone_towcable_runs_in_a_c_host_with_every_python_hidden(host, sta
     proc = without_python([str(host), str(fmu_dir), str(plan), str(tmp_path / "out.csv")], cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert "instance 2: largest difference to instance 1: 0\n" in proc.stdout
-    assert_round_off(xc.read_csv(tmp_path / "out.csv"), ref, list(exp.outputs))
+    # round-off as in test_fmu_native: the stiff sheave contact amplifies a last-bit
+    # difference of the hosts' time arithmetic; allowed: what a one-ulp nudge of the inputs does
+    nudged = {k: v if k == "time" else np.nextafter(v, np.inf) for k, v in inputs.items()}
+    moved = xc.simulate(fmu_paths[name], exp, nudged, exp.outputs)
+    sensitivity = {var: np.max(np.abs(moved[var] - ref[var])) for var in exp.outputs}
+    assert_round_off(xc.read_csv(tmp_path / "out.csv"), ref, list(exp.outputs), sensitivity)
 
 
 def ecos_command(tmp_path: Path) -> tuple[list[str], dict[str, str]]:
     """The ``ecos`` program of the ecospy wheel (made executable) and the folder of the
     TBB library it links (the tbb wheel's)."""
-    pytest.importorskip("ecospy")
-    import ecospy
+    import importlib.util
 
+    spec = importlib.util.find_spec("ecospy")  # not imported: its Python module needs libtbb on the loader path
+    if spec is None:
+        pytest.skip("ecospy is not installed")
     exe = tmp_path / "ecos"
-    shutil.copy(Path(ecospy.__file__).parent / "binaries" / "ecos", exe)
+    shutil.copy(Path(spec.submodule_search_locations[0]) / "binaries" / "ecos", exe)
     exe.chmod(exe.stat().st_mode | stat.S_IXUSR)
     libs = [p.parent for p in Path(sys.prefix).glob("lib/libtbb.so.12*")]
     if not libs:
@@ -143,12 +150,10 @@ def ecos_command(tmp_path: Path) -> tuple[list[str], dict[str, str]]:
     return [str(exe)], {"LD_LIBRARY_PATH": str(tbb)}
 
 
-#: A regular sea from t = 0 (as tests/test_fmu_cosim.py).
-WAVES = """type = "regular"
-ramp = 0.0
-heave = { amplitude = 0.8, period = 6.0 }
-pitch = { amplitude = 2.0, period = 7.0 }
-"""
+#: A regular sea from t = 0 (as tests/test_fmu_cosim.py), by the ShipMotion parameters
+#: (ecos writes String values into its CSV unquoted: no TOML text with commas or new lines).
+WAVES = {"motion.config": "", "motion.type": "regular", "motion.ramp": 0.0, "motion.heave.amplitude": 0.8,
+         "motion.heave.period": 6.0, "motion.pitch.amplitude": 2.0, "motion.pitch.period": 7.0}
 
 
 @needs_namespaces
@@ -162,7 +167,7 @@ def test_ecos_runs_the_ssp_of_standalone_fmus_as_the_master_does(standalone_path
     from towcable_fmu.cosim import CosimConfig, run_cosim
     from towcable_fmu.fmi.ssp import PARAMETER_SET, write_ssp
 
-    master = run_cosim(CosimConfig(duration=1.0, step=0.01, compensation="none", motion=WAVES),
+    master = run_cosim(CosimConfig(duration=1.0, step=0.01, compensation="none", ship_parameters=WAVES),
                        fmus=fmu_paths, echo=False)
     ssp = write_ssp(tmp_path / "TowedCableSystem.ssp", standalone_paths, master.parameters, stop_time=1.0)
     command, env = ecos_command(tmp_path)
@@ -174,7 +179,7 @@ def test_ecos_runs_the_ssp_of_standalone_fmus_as_the_master_does(standalone_path
     s = master.series
     rows = np.searchsorted(s["time"], ecos["time"] - 1e-9)
     assert np.allclose(s["time"][rows], ecos["time"], atol=1e-9) and len(rows) == 100
-    for name in ("ship.z", "tension.sheave", "tension.towbody", "contact.sheave_force", "towbody.z", "winch.phi"):
+    for name in ("ship.z", "tension.sheave", "tension.towbody", "contact.sheave_force", "towbody.z", "sheave_angle"):
         expected = s[name][rows]
         assert np.any(expected != expected[0]), name  # the signal moves
         np.testing.assert_allclose(ecos[name], expected, rtol=1e-8, atol=1e-6, err_msg=name)

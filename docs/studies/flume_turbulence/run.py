@@ -23,8 +23,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
-import os
-import platform
+import sys
 import time
 from pathlib import Path
 
@@ -36,6 +35,9 @@ from towcable_fmu.hydro.turbulence import TurbulenceSeries
 from towcable_fmu.hydro.water import turbulence
 from towcable_fmu.scene import load_scene
 from towcable_fmu.simulation import Simulation
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from study_machine import machine  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 SCENE = "flume"
@@ -148,17 +150,6 @@ def summarise(windows: list[dict]) -> dict:
     return {"volume_cm3": [float(np.median(volume)), float(volume.min()), float(volume.max())],
             "std_cm": [[float(np.median(s)), float(s.min()), float(s.max())] for s in std.T],
             "scale": [float(np.median(k)), float(k.min()), float(k.max())], "windows": len(windows)}
-
-
-def machine() -> str:
-    """CPU model and count, Python version."""
-    model = platform.machine()
-    cpuinfo = Path("/proc/cpuinfo")
-    if cpuinfo.exists():
-        names = [line.split(":", 1)[1].strip() for line in cpuinfo.read_text().splitlines()
-                 if line.startswith("model name")]
-        model = names[0] if names else model
-    return f"{model}, {os.cpu_count()} cores, Python {platform.python_version()}"
 
 
 def main() -> None:

@@ -21,8 +21,7 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import platform
+import sys
 import time
 from pathlib import Path
 
@@ -33,6 +32,9 @@ from scipy import signal
 from towcable_fmu.ancf.mesh import held_load_forces
 from towcable_fmu.ancf.system import iteration_matrix
 from towcable_fmu.simulation import Simulation
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from study_machine import machine  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 DURATION = 10.0  # [s] the reference's records
@@ -138,17 +140,6 @@ def fast_part(time: np.ndarray, x: np.ndarray, rate: float) -> list[float]:
     """Half the range of the raw series less the filtered one in each second [same unit]."""
     fast = x - low_pass(x, rate)
     return [float(0.5 * np.ptp(fast[(time >= k) & (time < k + 1.0)])) for k in range(int(DURATION))]
-
-
-def machine() -> str:
-    """CPU model and count, Python version."""
-    model = platform.machine()
-    cpuinfo = Path("/proc/cpuinfo")
-    if cpuinfo.exists():
-        names = [line.split(":", 1)[1].strip() for line in cpuinfo.read_text().splitlines()
-                 if line.startswith("model name")]
-        model = names[0] if names else model
-    return f"{model}, {os.cpu_count()} cores, Python {platform.python_version()}"
 
 
 def main() -> None:
