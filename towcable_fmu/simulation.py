@@ -155,7 +155,8 @@ class Simulation:
         return float(self.state.clock[0])
 
     def initialize(self, t0: float = 0.0, ship: np.ndarray | None = None,
-                   setpoint: tuple[float, float] | None = None, statics: bool | None = None) -> dict[str, float]:
+                   setpoint: tuple[float, float] | None = None, statics: bool | None = None,
+                   q0: np.ndarray | None = None) -> dict[str, float]:
         """Lay out the initial shape, solve the statics and set consistent accelerations.
 
         Parameters
@@ -168,6 +169,10 @@ class Simulation:
             Winch set-point (phi_sp [rad], phi_sp_rate [rad/s]).
         statics
             Solve the statics first (default: the scene's ``statics.enabled``).
+        q0
+            Start from these coordinates (full vector, e.g. the equilibrium of the same
+            mesh under a slightly different load, to follow a load sweep) instead of the
+            laid-out initial shape; the prescribed entries are overwritten.
 
         Returns
         -------
@@ -192,7 +197,7 @@ class Simulation:
         if self.scene.winch is not None:
             st.phi[0] = self._setpoint[0] if setpoint is not None else self.scene.winch.phi_nom
             self._setpoint = (float(st.phi[0]), self._setpoint[1] if setpoint is not None else 0.0)
-        st.q[:] = self._initial_coordinates(ship0)
+        st.q[:] = self._initial_coordinates(ship0) if q0 is None else self._checked_coordinates(q0, "q0")
         st.v[:] = 0.0
         st.a[:] = 0.0
         st.stats[:] = 0
@@ -257,12 +262,8 @@ class Simulation:
             Outputs in the new state.
         """
         self._require_initialized()
-        q = np.asarray(q, dtype=float)
-        v = np.zeros_like(q) if v is None else np.asarray(v, dtype=float)
-        if q.shape != self.state.q.shape or v.shape != self.state.q.shape:
-            raise SceneError("q", f"array of shape {q.shape}", f"an array of shape {self.state.q.shape}")
-        if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
-            raise SceneError("q", "non-finite values", "finite coordinates and velocities")
+        q = self._checked_coordinates(q, "q")
+        v = np.zeros_like(q) if v is None else self._checked_coordinates(v, "v")
         st = self.state
         st.q[:] = q
         st.v[:] = v
@@ -272,6 +273,21 @@ class Simulation:
                                              *drive_poly.taylor_drive(t, ship, self._setpoint)):
             raise SolverError("the given configuration has no finite acceleration")
         return self.outputs()
+
+    def _checked_coordinates(self, x: np.ndarray, name: str) -> np.ndarray:
+        """A coordinate (or velocity) vector of this model as a float array.
+
+        Raises
+        ------
+        SceneError
+            If its shape is not the model's or it is not finite.
+        """
+        x = np.asarray(x, dtype=float)
+        if x.shape != self.state.q.shape:
+            raise SceneError(name, f"array of shape {x.shape}", f"an array of shape {self.state.q.shape}")
+        if not np.all(np.isfinite(x)):
+            raise SceneError(name, "non-finite values", "finite coordinates and velocities")
+        return x
 
     def _initial_coordinates(self, ship0: np.ndarray) -> np.ndarray:
         """Rough initial coordinates: the cable's shape, then the load hanging on along its
