@@ -344,6 +344,70 @@ def test_rolled_ship_keeps_the_cable_in_the_groove_up_to_the_v_limit(stiffness):
         assert ratio == pytest.approx(_roll_ratio(math.radians(roll), departure, rise), rel=0.03), roll
 
 
+# ------------------------------------------------------------------ the sheave angle
+def _leaving_tangent(sim: Simulation) -> np.ndarray:
+    """The cable's tangent (inertial, unnormalised) where it leaves the sheave: the
+    derivative of the element's Hermite interpolation at the last touching point."""
+    from towcable_fmu.ancf import element
+
+    e, xi = sim.contact_state()["ends"][1][2:]
+    e = int(e)
+    assert e >= 0
+    x = sim.state.q[6 * e: 6 * e + 12].reshape(4, 3)
+    return element.shape_derivatives(xi, sim.mesh.lengths[e]) @ x
+
+
+def _pitched_about(point: np.ndarray, pitch: float) -> np.ndarray:
+    """Ship state (3, 6) at rest, pitched by ``pitch`` [rad] about the ship-fixed
+    ``point`` (body frame [m]), which stays where it is on the upright ship at the origin."""
+    ship = np.zeros((3, 6))
+    ship[0, 4] = pitch
+    ship[0, :3] = point - rotation_matrix(0.0, pitch, 0.0) @ point
+    return ship
+
+
+def test_sheave_angle_is_measured_from_the_inertial_vertical():
+    """full_scale at its upright equilibrium; then the ship pitched by 1 and -2 deg about
+    the sheave's axis with the cable held where it is. The groove is round about that
+    axis, so the cable touches it as before (same contact force). The departure angle
+    from the inertial vertical, which W(1)-(2) combine with inertial displacements,
+    stays that of the cable's own tangent where it leaves the sheave; measured from the
+    ship's vertical it would follow the pitch one to one."""
+    sim = Simulation.from_scene("full_scale", {"motion.type": "none", "compensation.algorithm": "none"})
+    upright = sim.initialize()
+    tangent = _leaving_tangent(sim)
+    assert upright["sheave_angle"] == pytest.approx(math.atan2(-tangent[0], -tangent[2]), abs=1e-12)
+    held = sim.state.q.copy()
+    sheave = np.array(sim.scene.sheave.position)
+    for pitch in (math.radians(1.0), math.radians(-2.0)):
+        out = sim.initialize(ship=_pitched_about(sheave, pitch), statics=False, q0=held)
+        assert out["contact.sheave_force"] == pytest.approx(upright["contact.sheave_force"], rel=1e-9)
+        assert out["sheave_angle"] == pytest.approx(upright["sheave_angle"], abs=1e-9)
+
+
+def test_rigorous_waterline_setpoint_on_a_pitched_ship():
+    """full_scale at equilibrium on a ship pitched 2 deg (its stern and sheave 1.3 m up),
+    with the rigorous waterline compensation and theta_nom = 1.25 rad. By hand, W(1):
+    L = H / cos(theta) - H_nom / cos(theta_nom) with H the sheave centre's height above
+    the waterline and theta the inertial angle of the cable's tangent where it leaves the
+    sheave, and phi_sp = phi_nom - L / (r_w + d/2). The simulation drives the winch with
+    that set-point (an angle measured from the ship's vertical, 2 deg off, would pay out
+    2.5 m too much)."""
+    pitch = math.radians(2.0)
+    sim = Simulation.from_scene("full_scale", {"motion": {"type": "regular", "pitch": {"mean": 2.0}},
+                                               "compensation": {"algorithm": "rigorous_waterline",
+                                                                "theta_nom": 1.25}})
+    sim.initialize()
+    tangent = _leaving_tangent(sim)
+    theta = math.atan2(-tangent[0], -tangent[2])
+    s_ref = np.array(sim.scene.sheave.position)
+    height = (rotation_matrix(0.0, pitch, 0.0) @ s_ref)[2]
+    payout = height / math.cos(theta) - s_ref[2] / math.cos(1.25)
+    phi_sp = sim.scene.winch.phi_nom - payout / winch_radius(sim.scene)
+    sim.advance(0.02)  # the set-point over the step is computed with the angle measured at its start
+    assert sim.get_state()["setpoint"][0] == pytest.approx(phi_sp, abs=1e-9)
+
+
 def test_energy_of_a_swing_over_a_pulley_is_conserved_without_damping():
     """No internal, contact or numerical damping: kinetic + strain + gravity + contact energy
     stays constant (the penalty contact is conservative for D = 0)."""

@@ -73,12 +73,20 @@ class OutputLayout:
 
 
 @njit(cache=True, inline="always")
-def _angle_in_ship(rot: np.ndarray, ux: float, uy: float, uz: float) -> tuple:
-    """A direction in the ship frame and its angle from the ship's downward vertical
-    towards -X [rad] (the departure angle of the compensation algorithms)."""
-    sx = rot[0, 0] * ux + rot[1, 0] * uy + rot[2, 0] * uz
-    sz = rot[0, 2] * ux + rot[1, 2] * uy + rot[2, 2] * uz
-    return sx, sz, math.atan2(-sx, -sz)
+def _in_ship_plane(rot: np.ndarray, ux: float, uy: float, uz: float) -> tuple:
+    """The ship-frame X and Z components of an inertial direction (its projection on the
+    plane of the drum and the sheave)."""
+    return (rot[0, 0] * ux + rot[1, 0] * uy + rot[2, 0] * uz,
+            rot[0, 2] * ux + rot[1, 2] * uy + rot[2, 2] * uz)
+
+
+@njit(cache=True, inline="always")
+def _departure_angle(ux: float, uz: float) -> float:
+    """Angle of an inertial direction (x, z components) from the inertial downward
+    vertical in the x-z plane, positive towards -x (trailing aft) [rad]: the departure
+    angle theta of the compensation algorithms W(1)-(2), which combine it with inertial
+    displacements."""
+    return math.atan2(-ux, -uz)
 
 
 @njit(cache=True)
@@ -205,7 +213,7 @@ def _contact_values(model: CableModel, q: np.ndarray, v: np.ndarray, ship: np.nd
         out[15] = element_tension(model, q, min(e + 1, last_el)) if e >= 0 else top
         if not has_sheave:  # the cable departs from the drum: its angle plays the sheave's role
             leave = point_on_cable(model, q, max(e, 0), ends[WINCH, 3] if e >= 0 else 0.0)
-            out[16] = _angle_in_ship(rot, leave[3], leave[4], leave[5])[2]
+            out[16] = _departure_angle(leave[3], leave[5])
     if has_sheave:
         e0, xi0 = int(ends[SHEAVE, 0]), ends[SHEAVE, 1]
         e, xe = int(ends[SHEAVE, 2]), ends[SHEAVE, 3]
@@ -225,11 +233,12 @@ def _contact_values(model: CableModel, q: np.ndarray, v: np.ndarray, ship: np.nd
         leave = point_on_cable(model, q, e, xe)
         # the force carried just off the sheave: the mean over the next element
         out[17] = element_tension(model, q, min(e + 1, last_el))
-        ux, uz, out[16] = _angle_in_ship(rot, leave[3], leave[4], leave[5])
+        out[16] = _departure_angle(leave[3], leave[5])
         out[18] = 0.0
-        if e0 >= 0:  # the wrap: how far the cable turns between meeting and leaving the sheave
+        if e0 >= 0:  # the wrap: how far the cable turns in the sheave's plane between meeting and leaving it
+            ux, uz = _in_ship_plane(rot, leave[3], leave[4], leave[5])
             meet = point_on_cable(model, q, e0, xi0)
-            u0x, u0z, _ = _angle_in_ship(rot, meet[3], meet[4], meet[5])
+            u0x, u0z = _in_ship_plane(rot, meet[3], meet[4], meet[5])
             out[18] = abs(math.atan2(u0x * uz - u0z * ux, u0x * ux + u0z * uz))
         out[19] = 1.0 if lowest[SHEAVE] > 0.0 else 0.0
 
