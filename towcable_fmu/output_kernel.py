@@ -91,7 +91,7 @@ def _departure_angle(ux: float, uz: float) -> float:
 
 @njit(cache=True)
 def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, phi: np.ndarray, t: float,
-                  ship: np.ndarray, xi: np.ndarray, body_weight: float, has_winch: bool,
+                  ship: np.ndarray, xi: np.ndarray, body_mass: float, has_winch: bool,
                   sheave_position: np.ndarray, payout_radius: float, phi_nom: float, r: np.ndarray) -> np.ndarray:
     """The outputs of a state (order: :data:`OUTPUT_FIELDS`).
 
@@ -103,8 +103,9 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
         Winch state (rotation [rad], rate, acceleration, ...).
     xi
         Normalised positions per element where the tension extremes are sampled.
-    body_weight
-        Weight of the lumped towed body m g [N]; negative: no lumped towed body (a rigid
+    body_mass
+        Mass of the lumped towed body [kg] (the cable's last node carries it, with the
+        cable's end mass if the scene has one); negative: no lumped towed body (a rigid
         body, ``model.rigid.enabled``, reports from its own coordinates).
     has_winch
         The cable's top end is on a winch drum.
@@ -120,9 +121,10 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     ndarray
         ``tension.top``/``tension.bottom`` are the support reactions at a prescribed end
         (the consistent nodal force), else the axial force from the strain;
-        ``tension.towbody`` is the force the cable exerts on the body (its mass times
-        acceleration minus its own weight and hydrodynamic force; for a rigid body the
-        force in the link to its tow point); a rigid body's ``towbody.x/y/z`` and
+        ``tension.towbody`` is the force the cable exerts on the body (the body's own
+        mass times acceleration minus its own weight and hydrodynamic force: an end mass
+        on the same node belongs to the cable; for a rigid body the force in the link to
+        its tow point); a rigid body's ``towbody.x/y/z`` and
         velocities are those of its CG, and its kinetic energy, weight and link strain
         energy are included in the energies. The contact fields
         follow :meth:`~towcable_fmu.simulation.Simulation.outputs`. Fields a scene does
@@ -139,14 +141,14 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     out[2] = max(t_max, top, bottom)
     out[3] = t_min
     out[4] = math.atan2(math.sqrt(q[3] ** 2 + q[4] ** 2), -q[5])
-    if body_weight >= 0.0:
+    if body_mass >= 0.0:
         hydro = np.zeros(3)
         if model.body.enabled:
             body_force(model.water, model.body, q[last:last + 3], v[last:last + 3], a[last:last + 3], t, hydro)
-        hydro[2] -= body_weight
+        hydro[2] -= body_mass * model.gravity
         total = 0.0
         for c in range(3):
-            total += (model.node_mass[-1, c] * a[last + c] - hydro[c]) ** 2
+            total += (body_mass * a[last + c] - hydro[c]) ** 2
             out[6 + c] = q[last + c]
             out[9 + c] = v[last + c]
         out[5] = math.sqrt(total)
@@ -245,7 +247,7 @@ def _contact_values(model: CableModel, q: np.ndarray, v: np.ndarray, ship: np.nd
 
 @njit(cache=True)
 def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive_t: np.ndarray,
-                      drive_x: np.ndarray, xi: np.ndarray, body_weight: float, has_winch: bool,
+                      drive_x: np.ndarray, xi: np.ndarray, body_mass: float, has_winch: bool,
                       sheave_position: np.ndarray, payout_radius: float, phi_nom: float, index: np.ndarray,
                       rows: np.ndarray) -> int:
     """Advance through the sample times and record the outputs ``index`` of
@@ -265,7 +267,7 @@ def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive
     for k in range(samples.shape[0]):
         if genalpha_advance(model, opt, st, ws, samples[k], drive_t, drive_x) != 0:
             return k
-        values = output_values(model, st.q, st.v, st.a, st.phi, st.clock[0], ws.ship, xi, body_weight, has_winch,
+        values = output_values(model, st.q, st.v, st.a, st.phi, st.clock[0], ws.ship, xi, body_mass, has_winch,
                                sheave_position, payout_radius, phi_nom, ws.r)
         for j in range(index.shape[0]):
             rows[k, j] = values[index[j]]

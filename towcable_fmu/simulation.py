@@ -121,8 +121,7 @@ class Simulation:
         self._payout_radius = winch_radius(scene) if scene.winch is not None else 0.0  # r_w + d/2 [m]
         self._phi_nom = scene.winch.phi_nom if scene.winch is not None else 0.0
         rigid = bool(self.model.rigid.enabled)
-        self._body_weight = (-1.0 if scene.towbody is None or rigid
-                             else scene.towbody.mass * scene.environment.gravity)
+        self._body_mass = -1.0 if scene.towbody is None or rigid else scene.towbody.mass  # [kg]
         #: The outputs this scene has (names in DESIGN.md), see :meth:`outputs`.
         self.layout = OutputLayout(towbody=scene.towbody is not None, winch=scene.winch is not None,
                                    sheave=scene.sheave is not None, contact=bool(self.model.contact.enabled),
@@ -549,7 +548,7 @@ class Simulation:
         """All fields of :data:`~towcable_fmu.output_kernel.OUTPUT_FIELDS` (NaN: not in the scene)."""
         st, ws = self.state, self.workspace
         return output_values(self.model, st.q, st.v, st.a, st.phi, self.time, ws.ship, _PROFILE_XI,
-                             self._body_weight, self.scene.winch is not None, self._sheave_position,
+                             self._body_mass, self.scene.winch is not None, self._sheave_position,
                              self._payout_radius, self._phi_nom, ws.r)
 
     def _load_outputs(self) -> dict[str, float]:
@@ -766,7 +765,7 @@ class Simulation:
             if loads is None and self.viv is None:
                 reached = first + advance_recording(
                     self.model, self.options, self.state, self.workspace, samples[first:stop], *drive, _PROFILE_XI,
-                    self._body_weight, self.scene.winch is not None, self._sheave_position, self._payout_radius,
+                    self._body_mass, self.scene.winch is not None, self._sheave_position, self._payout_radius,
                     self._phi_nom, index, values[first + 1:stop + 1])
             else:  # the rigid load's outputs, or the wake coupling, in Python: one sample at a time
                 reached = first
