@@ -74,7 +74,7 @@ def test_pulley_with_two_hanging_masses():
     assert np.degrees(sim.outputs()["contact.wrap_angle"]) == pytest.approx(180.0, abs=2.0)
 
 
-def _winch_hoist(phi: float):
+def _winch_hoist(phi: float, rate: float = 0.0):
     table = cable_scene([segment(2.0, 20, mu=0.5, EA=1e7, EI=0.1, diameter=0.01),
                          segment(10.0, 10, mu=0.5, EA=1e7, EI=0.1, diameter=0.01)],
                         top={"type": "winch"}, towbody={"mass": 50.0},
@@ -82,7 +82,7 @@ def _winch_hoist(phi: float):
                                "kd": 20.0, "contact": {"stiffness": 1e10}})
     table["cable"]["initial"] = {"direction": [0.0, 0.0, -1.0]}
     sim = Simulation(scene_from_table(table))
-    return sim, sim.initialize(setpoint=(phi, 0.0))
+    return sim, sim.initialize(setpoint=(phi, rate))
 
 
 def test_winch_rotation_pays_out_its_pitch_radius_times_the_angle():
@@ -109,6 +109,24 @@ def test_winch_follows_its_set_point_in_time():
         out = sim.step(0.01, ship, (2.8, 0.0))
     assert out["winch.phi"] == pytest.approx(2.8, abs=1e-4)
     assert out0["towbody.z"] - out["towbody.z"] == pytest.approx(0.2 * 0.305, rel=0.02)
+
+
+def test_winch_started_under_a_moving_set_point_follows_the_pd_law_from_the_first_step():
+    """The drum at rest at phi = 3 rad while its set-point already moves at omega = 1 rad/s:
+    W(136) accelerates it at once with k2 omega = 20 rad/s^2, and the initial state has
+    that acceleration. With k1 = 100 and k2 = 20 (critically damped, 10 rad/s) the lag
+    e = phi_sp - phi obeys e'' + k2 e' + k1 e = 0 from e = 0, e' = omega:
+    e = omega t exp(-10 t), at most 0.037 rad. The drum follows it within 0.1 % of that
+    (0.01 s steps); started with no acceleration it was up to 5 % off."""
+    omega = 1.0
+    sim, _ = _winch_hoist(3.0, omega)
+    assert sim.state.phi[2] == pytest.approx(20.0 * omega, rel=1e-12)
+    ship = np.zeros((3, 6))
+    largest = omega / (10.0 * math.e)
+    for _ in range(50):
+        out = sim.step(0.01, ship, (3.0 + omega * sim.time, omega))
+        t = sim.time
+        assert out["winch.phi"] == pytest.approx(3.0 + omega * t * (1.0 - math.exp(-10.0 * t)), abs=1e-3 * largest)
 
 
 def _lateral_pull(sway: float):

@@ -222,7 +222,7 @@ class Simulation:
             if setpoint is None:
                 sp = self.compensation.compute(ship0, None)
                 self._setpoint = (float(sp.phi_sp), float(sp.phi_sp_rate))
-        if not genalpha.initial_acceleration(self.model, st, self.workspace, t0,
+        if not genalpha.initial_acceleration(self.model, self.options, st, self.workspace, t0,
                                              *drive_poly.taylor_drive(t0, ship0, self._setpoint)):
             raise SolverError("the initial state has no finite acceleration (singular mass matrix or "
                               "non-finite forces)")
@@ -268,7 +268,7 @@ class Simulation:
         st.v[:] = v
         t = self.time
         ship = self.motion.evaluate(t)
-        if not genalpha.initial_acceleration(self.model, st, self.workspace, t,
+        if not genalpha.initial_acceleration(self.model, self.options, st, self.workspace, t,
                                              *drive_poly.taylor_drive(t, ship, self._setpoint)):
             raise SolverError("the given configuration has no finite acceleration")
         return self.outputs()
