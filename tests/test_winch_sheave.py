@@ -189,32 +189,30 @@ def _groove_force(h: float, y: float) -> tuple[np.ndarray, float]:
     total = np.zeros(2)
     faces = [f for f in range(c.face_kind.size) if c.face_surface[f] == SHEAVE]
     for f in faces:
-        fx, fy, fz, g, _ = face_force(c, f, half_d, 0.0, y, rc + h, 0.0, 0.0, 0.0)
+        _, fy, fz, g, _ = face_force(c, f, half_d, 0.0, y, rc + h, 0.0, 0.0, 0.0)
         if g > 0.0:
             total += (fy, fz)
     return total, groove_exit(c, faces[0], h, y)
 
 
-@pytest.mark.parametrize("offset", [0.0, 0.003, 0.0057, 0.0058, 0.010, 0.015, 0.025])
-def test_sunk_cable_is_held_by_both_groove_walls_inside_and_beyond_the_opening(offset):
+def test_sunk_cable_is_held_by_both_groove_walls_and_a_climbed_out_cable_by_the_flange_top():
     """full_scale's groove (10 mm deep, 60 deg throat, Table 9's k_N = 1e6): the static
     cable sits 68 mm below its seat. Shifted sideways by Y it still lies below both walls
     of W(100), and below the groove top (W(101)): each pushes with k delta^1.5 along its
     normal, delta = +-Y cos 30 + 68 mm sin 30, whether Y is inside the groove's
-    half-opening Y_o = 5.77 mm or beyond it, and the flange top does not push. The point
-    is in the groove (negative detachment measure)."""
+    half-opening Y_o = 5.77 mm or beyond it, and the flange top does not push; the point
+    is in the groove (negative detachment measure). A point whose contact point on the
+    wall of its side is above the groove top (climbed out) rests on the flange top alone,
+    pushed straight up with k (h_g - h)^1.5; above the flange top nothing pushes; both are
+    out of the groove."""
     k, ca, sa, depth = 1e6, math.cos(math.radians(30.0)), math.sin(math.radians(30.0)), 0.068
-    force, exit_height = _groove_force(-depth, offset)
-    plus, minus = (max(s * offset * ca + depth * sa, 0.0) ** 1.5 for s in (1.0, -1.0))
-    np.testing.assert_allclose(force, [-k * ca * (plus - minus), k * sa * (plus + minus)], rtol=1e-12)
-    assert exit_height < 0.0
-
-
-def test_cable_that_climbed_out_of_the_groove_rests_on_the_flange_top():
-    """A point whose contact point on the wall of its side is above the groove top (it
-    has climbed out): only the flange top pushes, straight up with k (h_g - h)^1.5; above
-    the flange top nothing does. Both are out of the groove."""
-    k, h = 1e6, 0.009
+    for offset in (0.0, 0.003, 0.0057, 0.0058, 0.010, 0.015, 0.025):
+        force, exit_height = _groove_force(-depth, offset)
+        plus, minus = (max(s * offset * ca + depth * sa, 0.0) ** 1.5 for s in (1.0, -1.0))
+        np.testing.assert_allclose(force, [-k * ca * (plus - minus), k * sa * (plus + minus)], rtol=1e-12,
+                                   err_msg=f"Y = {offset} m")
+        assert exit_height < 0.0
+    h = 0.009
     for y in (0.009, -0.015):
         force, exit_height = _groove_force(h, y)
         np.testing.assert_allclose(force, [0.0, k * (0.010 - h) ** 1.5], rtol=1e-12)
