@@ -82,7 +82,7 @@ class SetpointConfig:
         Nominal winch angle ``phi_nom`` [rad]; the set-point is
         ``phi_sp = phi_nom - payout / r_w``.
     theta_nom
-        Nominal (steady-state) cable departure angle from the vertical [rad],
+        Nominal (steady-state) cable departure angle from the inertial vertical [rad],
         in [0, pi/2), positive when the cable trails aft.
     waterline_z
         Inertial height of the waterline [m] (0 when the origin is at the mean

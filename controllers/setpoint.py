@@ -10,7 +10,7 @@ because increasing the winch angle reels cable in (W(120), DESIGN.md).
 With ``Delta = r_ref(t) - s_ref`` the displacement of the reference point (normally
 the sheave centre) from its nominal position (its body coordinates: the frame moves
 with the mean tow speed, so the ship oscillates about the origin), and ``theta`` the
-cable departure angle from the vertical (positive trailing aft):
+cable departure angle from the inertial vertical (positive trailing aft):
 
 * sheave, W(2):     L = Delta_x sin(theta) + Delta_z cos(theta)
 * waterline, W(1):  L = H / cos(theta) - H_nom / cos(theta_nom),
@@ -106,7 +106,7 @@ class SetpointAlgorithm:
             Ship state, shape (3, 6): rows value/rate/acceleration, columns
             x, y, z [m] and roll, pitch, yaw [rad] of the CG (inertial frame).
         sheave_angle
-            Measured cable departure angle from the vertical [rad]; used only by the
+            Measured cable departure angle from the inertial vertical [rad]; used only by the
             rigorous algorithms. None or NaN means "not measured".
 
         Returns

@@ -77,33 +77,41 @@ def test_winch_reels_in_and_out_at_full_rate_and_returns_to_its_statics():
 
 
 # ------------------------------------------------------------------ sheave detachment
-def test_large_roll_lifts_the_cable_out_of_the_sheave_cleanly():
-    """full_scale with the stiff contact that keeps the cable seated up to about 47 deg of
-    roll (README, contact stiffness): a 50 deg roll (period 12 s) lifts it out of the
-    groove. Re-seating needs a groove the cable can fall back into: the reference's
-    10 mm groove has no flanges, and the roll carries the sheave 2.8 m sideways, so the
-    cable stays off (re-seating is tested on the lateral pull in test_winch_sheave).
-    Detachment is reported, the run goes on without NaN, the spans keep their tension,
-    and the contact force never pulls."""
-    sim = Simulation.from_scene("full_scale", {"motion": {"type": "regular", "roll": {"amplitude": 50.0,
-                                                                                      "period": 12.0}},
+@pytest.mark.parametrize("stiffness", [1e6, 1e8])
+def test_large_roll_lifts_the_cable_out_of_the_sheave_cleanly(stiffness):
+    """full_scale with the ship rolling slowly from 60 to 85 deg and back (period 60 s),
+    with Table 9's contact stiffness and a stiffer one. The V-groove holds the cable until
+    the two tensions press on the sheave sideways more than cot(theta_g/2) times as hard
+    as radially (about 74 deg; quasi-statically 74.25 deg for k_N = 1e6 and 72.25 deg for
+    1e8, docs/studies/sheave_roll): seated below 70 deg; then it climbs out and falls off
+    the sheave's side before 78 deg. It stays off while the ship rolls back to 60 deg: the
+    pull is still sideways, and a cable beside the sheave cannot climb back over the
+    flange (re-seating from the flange top is tested on the lateral pull in
+    test_winch_sheave). Detachment is reported, the run goes on without NaN, the spans
+    keep their tension, and the contact force never pulls."""
+    sim = Simulation.from_scene("full_scale", {"motion": {"type": "regular", "roll": {"mean": 60.0, "amplitude": 25.0,
+                                                                                      "period": 60.0}},
                                                "compensation.algorithm": "none",
-                                               "sheave.contact.stiffness": 1e8})
+                                               "sheave.contact.stiffness": stiffness})
     out0 = sim.initialize()
     assert out0["contact.detached"] == 0.0
-    res = sim.run(36.0, interval=0.1)
+    res = sim.run(30.0, interval=0.1)
     _all_finite(res)
+    roll = np.degrees(sim.motion.evaluate_many(res["time"])[:, 0, 3])
     detached = res["contact.detached"] > 0.5
-    assert not detached[:10].any() and detached[-50:].all()
+    first = np.argmax(detached)
+    assert not detached[(roll < 70.0) & (res["time"] < 15.0)].any()  # while the roll rises
+    assert detached.any() and roll[first] < 78.0 and detached[first:].all()
     assert res["contact.sheave_force"].min() >= 0.0
     assert res["tension.sheave"].min() > 0.3 * out0["tension.sheave"]
 
 
 def test_moderate_roll_keeps_the_cable_seated():
-    sim = Simulation.from_scene("full_scale", {"motion": {"type": "regular", "roll": {"amplitude": 40.0,
+    """A 60 deg roll (period 12 s) with Table 9's contact stiffness: the cable stays in
+    the groove and the sheave carries it throughout."""
+    sim = Simulation.from_scene("full_scale", {"motion": {"type": "regular", "roll": {"amplitude": 60.0,
                                                                                       "period": 12.0}},
-                                               "compensation.algorithm": "none",
-                                               "sheave.contact.stiffness": 1e8})
+                                               "compensation.algorithm": "none"})
     sim.initialize()
     res = sim.run(24.0, interval=0.1)
     _all_finite(res)
@@ -114,14 +122,13 @@ def test_moderate_roll_keeps_the_cable_seated():
 # ------------------------------------------------------------------ severe sea
 def test_severe_sea_on_the_full_scale_system():
     """Hs = 6 m, Tp = 11 s (sea state 6), 120 s, with the simplified-sheave compensation and
-    without, with the stiff sheave contact (with Table 9's 1e6 the uncompensated cable
-    leaves the groove at about 14 deg of roll, README): no NaN, the cable stays seated, the sheave tension stays positive, contact pushes, and the
-    compensation reduces the sheave-tension fluctuation and the body's vertical motion."""
+    without, with Table 9's sheave contact stiffness: no NaN, the cable stays seated, the
+    sheave tension stays positive, contact pushes, and the compensation reduces the
+    sheave-tension fluctuation and the body's vertical motion."""
     runs = {}
     for algorithm in ("simplified_sheave", "none"):
         sim = Simulation.from_scene("full_scale", {"motion.hs": 6.0, "motion.tp": 11.0,
-                                                   "compensation.algorithm": algorithm,
-                                                   "sheave.contact.stiffness": 1e8})
+                                                   "compensation.algorithm": algorithm})
         out0 = sim.initialize()
         res = sim.run(120.0, interval=0.1)
         _all_finite(res)

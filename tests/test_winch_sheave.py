@@ -6,10 +6,12 @@ import math
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 from conftest import cable_scene, segment
 
 from towcable_fmu.ancf.mesh import winch_radius
-from towcable_fmu.contact.surfaces import WINCH
+from towcable_fmu.contact.surfaces import WINCH, face_force
+from towcable_fmu.kinematics import rotation_matrix
 from towcable_fmu.scene import scene_from_table
 from towcable_fmu.simulation import Simulation
 
@@ -72,7 +74,7 @@ def test_pulley_with_two_hanging_masses():
     assert np.degrees(sim.outputs()["contact.wrap_angle"]) == pytest.approx(180.0, abs=2.0)
 
 
-def _winch_hoist(phi: float):
+def _winch_hoist(phi: float, rate: float = 0.0):
     table = cable_scene([segment(2.0, 20, mu=0.5, EA=1e7, EI=0.1, diameter=0.01),
                          segment(10.0, 10, mu=0.5, EA=1e7, EI=0.1, diameter=0.01)],
                         top={"type": "winch"}, towbody={"mass": 50.0},
@@ -80,7 +82,7 @@ def _winch_hoist(phi: float):
                                "kd": 20.0, "contact": {"stiffness": 1e10}})
     table["cable"]["initial"] = {"direction": [0.0, 0.0, -1.0]}
     sim = Simulation(scene_from_table(table))
-    return sim, sim.initialize(setpoint=(phi, 0.0))
+    return sim, sim.initialize(setpoint=(phi, rate))
 
 
 def test_winch_rotation_pays_out_its_pitch_radius_times_the_angle():
@@ -107,6 +109,24 @@ def test_winch_follows_its_set_point_in_time():
         out = sim.step(0.01, ship, (2.8, 0.0))
     assert out["winch.phi"] == pytest.approx(2.8, abs=1e-4)
     assert out0["towbody.z"] - out["towbody.z"] == pytest.approx(0.2 * 0.305, rel=0.02)
+
+
+def test_winch_started_under_a_moving_set_point_follows_the_pd_law_from_the_first_step():
+    """The drum at rest at phi = 3 rad while its set-point already moves at omega = 1 rad/s:
+    W(136) accelerates it at once with k2 omega = 20 rad/s^2, and the initial state has
+    that acceleration. With k1 = 100 and k2 = 20 (critically damped, 10 rad/s) the lag
+    e = phi_sp - phi obeys e'' + k2 e' + k1 e = 0 from e = 0, e' = omega:
+    e = omega t exp(-10 t), at most 0.037 rad. The drum follows it within 0.1 % of that
+    (0.01 s steps); started with no acceleration it was up to 5 % off."""
+    omega = 1.0
+    sim, _ = _winch_hoist(3.0, omega)
+    assert sim.state.phi[2] == pytest.approx(20.0 * omega, rel=1e-12)
+    ship = np.zeros((3, 6))
+    largest = omega / (10.0 * math.e)
+    for _ in range(50):
+        out = sim.step(0.01, ship, (3.0 + omega * sim.time, omega))
+        t = sim.time
+        assert out["winch.phi"] == pytest.approx(3.0 + omega * t * (1.0 - math.exp(-10.0 * t)), abs=1e-3 * largest)
 
 
 def _lateral_pull(sway: float):
@@ -148,6 +168,260 @@ def test_small_sideways_pull_keeps_the_cable_seated():
     sim.initialize()
     res = sim.run(10.0, interval=0.1)
     assert np.all(res["contact.detached"] == 0.0)
+
+
+# ------------------------------------------------------------------ the V-groove's walls
+COT_HALF_THROAT = 1.0 / math.tan(math.radians(30.0))  # cot(theta_g / 2) of the 60 deg groove
+
+
+def _groove_force(h: float, y: float) -> tuple[np.ndarray, float]:
+    """Total force per unit length of full_scale's sheave faces on a cable point at height h
+    above its seat and offset y from the groove centre, at the top of the sheave [N/m]
+    (Y, radial), and the point's detachment measure [m]."""
+    from towcable_fmu.ancf.mesh import build_contact
+    from towcable_fmu.contact.surfaces import SHEAVE, groove_exit
+    from towcable_fmu.scene import load_scene
+
+    scene = load_scene("full_scale")
+    c = build_contact(scene)
+    half_d = 0.5 * scene.cable.segments[0].diameter
+    rc = scene.sheave.radius + half_d
+    total = np.zeros(2)
+    faces = [f for f in range(c.face_kind.size) if c.face_surface[f] == SHEAVE]
+    for f in faces:
+        _, fy, fz, g, _ = face_force(c, f, half_d, 0.0, y, rc + h, 0.0, 0.0, 0.0)
+        if g > 0.0:
+            total += (fy, fz)
+    return total, groove_exit(c, faces[0], h, y)
+
+
+def test_sunk_cable_is_held_by_both_groove_walls_and_a_climbed_out_cable_by_the_flange_top():
+    """full_scale's groove (10 mm deep, 60 deg throat, Table 9's k_N = 1e6): the static
+    cable sits 68 mm below its seat. Shifted sideways by Y it still lies below both walls
+    of W(100), and below the groove top (W(101)): each pushes with k delta^1.5 along its
+    normal, delta = +-Y cos 30 + 68 mm sin 30, whether Y is inside the groove's
+    half-opening Y_o = 5.77 mm or beyond it, and the flange top does not push; the point
+    is in the groove (negative detachment measure). A point whose contact point on the
+    wall of its side is above the groove top (climbed out) rests on the flange top alone,
+    pushed straight up with k (h_g - h)^1.5; above the flange top nothing pushes; both are
+    out of the groove."""
+    k, ca, sa, depth = 1e6, math.cos(math.radians(30.0)), math.sin(math.radians(30.0)), 0.068
+    for offset in (0.0, 0.003, 0.0057, 0.0058, 0.010, 0.015, 0.025):
+        force, exit_height = _groove_force(-depth, offset)
+        plus, minus = (max(s * offset * ca + depth * sa, 0.0) ** 1.5 for s in (1.0, -1.0))
+        np.testing.assert_allclose(force, [-k * ca * (plus - minus), k * sa * (plus + minus)], rtol=1e-12,
+                                   err_msg=f"Y = {offset} m")
+        assert exit_height < 0.0
+    h = 0.009
+    for y in (0.009, -0.015):
+        force, exit_height = _groove_force(h, y)
+        np.testing.assert_allclose(force, [0.0, k * (0.010 - h) ** 1.5], rtol=1e-12)
+        assert exit_height > 0.0
+    force, exit_height = _groove_force(0.011, 0.0)
+    assert np.all(force == 0.0) and exit_height > 0.0
+
+
+_HOLD = {"radius": 2.0, "mass": 140.0, "EA": 1e6, "rho": 1026.0, "cd": 4.0, "d": 0.01, "span": 2.0}
+
+
+def _v_limit_geometry(stiffness: float) -> tuple[float, float, float]:
+    """Tension T [N], strain and centreline radius R_p [m] of the wrap of :func:`_held_by_current`
+    at the V's holding limit: on one wall, which carries N / sin(theta_g/2) with the radial
+    load N = T (1 + eps) / R_p per unit (unstretched) length, sunk by that wall's
+    penetration (2 N / k)^(2/3) below the seat."""
+    p = _HOLD
+    tension = (p["mass"] + 1e-3 * p["span"]) * G  # the hanging mass and the light span below the wrap
+    eps = tension / p["EA"]
+    seat = p["radius"] + 0.5 * p["d"]
+    radius = seat
+    for _ in range(30):
+        radius = seat - (2.0 * tension * (1.0 + eps) / (radius * stiffness)) ** (2.0 / 3.0)
+    return tension, eps, radius
+
+
+def _held_by_current(ratio: float, stiffness: float) -> Simulation:
+    """Half a turn of cable round a large grooved sheave (r = 2 m; full_scale's groove:
+    10 mm deep, 60 deg throat), pinned below one side, a 140 kg mass hanging from the other.
+    A current along the sheave's axis loads only the wrapped, neutrally buoyant segment:
+    a uniform sideways drag q = 1/2 rho C_D d U^2 per unit length (the bare-cable loading
+    functions of the nodal-position paper are 1 across the flow and 0 along it); the spans
+    carry no fluid loads. ``ratio`` is q over the V's holding limit cot(theta_g/2) N. The
+    pinned span meets the wrap where the sunk cable does (radius R_p), so the radial load
+    is uniform; on the 2 m sheave the uneven sinking changes the wrap's tension by 0.3 %."""
+    p = _HOLD
+    tension, eps, radius = _v_limit_geometry(stiffness)
+    drag = ratio * COT_HALF_THROAT * tension * (1.0 + eps) / radius
+    current = math.sqrt(drag / (0.5 * p["rho"] * p["cd"] * p["d"]))
+    common = {"EA": p["EA"], "EI": 1e-3, "diameter": p["d"]}
+    span = segment(p["span"], 10, mu=1e-3, fluid_loads=False, **common)
+    wrap = segment(math.pi * radius / (1.0 + eps), 80, mu=p["rho"] * math.pi * p["d"] ** 2 / 4.0,
+                   loading="sun2011_bare", drag_coefficient=p["cd"], **common)
+    table = cable_scene([span, wrap, dict(span)],
+                        top={"type": "pinned", "frame": "ship", "position": [-radius, 0.0, -p["span"]]},
+                        bottom={"type": "free", "mass": p["mass"]},
+                        sheave={"position": [0.0, 0.0, 0.0], "radius": p["radius"], "shape": "groove",
+                                "groove_depth": 0.01, "throat_angle": 60.0, "contact": {"stiffness": stiffness}},
+                        water={"density": p["rho"], "surface_z": 10.0,
+                               "current": {"type": "uniform", "velocity": [0.0, current, 0.0]}},
+                        solver={"time_step": 2e-3})
+    table["cable"]["initial"] = {"direction": [0.0, 0.0, -1.0]}
+    return Simulation(scene_from_table(table))
+
+
+def _wrap_middle(sim: Simulation) -> tuple[np.ndarray, np.ndarray]:
+    """Sideways offset and height above the seat [m] of the nodes within 45 deg of the top."""
+    x = sim.node_positions()
+    middle = (x[:, 2] > 0.0) & (np.abs(x[:, 0]) < math.sin(math.radians(45.0)) * np.hypot(x[:, 0], x[:, 2]))
+    return x[middle, 1], np.hypot(x[middle, 0], x[middle, 2]) - (_HOLD["radius"] + 0.5 * _HOLD["d"])
+
+
+@pytest.mark.parametrize("stiffness", [1e6, 1e8])
+def test_sideways_load_is_held_by_the_v_groove_up_to_its_closed_form_limit(stiffness):
+    """The lateral drag grows from half the V's limit to 99 % of it (statics, each from the
+    last): the cable stays in the groove, where the two walls of W(100) balance the radial
+    load N and the sideways load q = r cot(theta_g/2) N: they carry N (1 +- r) (at 30 deg
+    the normal force is twice its radial part), so the penetrations are
+    delta+- = (N (1 +- r) / k)^(2/3) and the centreline sits (delta+ - delta-) / (2 cos 30)
+    sideways and (delta+ + delta-) below the seat (closed form, within 1.5 %: the
+    sinking sets N). With Table 9's k_N = 1e6 that is 7 mm sideways, beyond the groove's
+    half-opening of 5.8 mm. 1 % beyond the limit there is no equilibrium in the groove: the
+    cable climbs the wall and out, and the flange top cannot hold it sideways."""
+    tension, eps, _ = _v_limit_geometry(stiffness)
+    sim = _held_by_current(0.5, stiffness)
+    sim.initialize()
+    for ratio in (0.9, 0.99):
+        last = sim.state.q
+        sim = _held_by_current(ratio, stiffness)
+        out = sim.initialize(q0=last)
+        assert out["contact.detached"] == 0.0
+        y, h = _wrap_middle(sim)
+        normal = tension * (1.0 + eps) / (_HOLD["radius"] + 0.5 * _HOLD["d"] + h)  # T / R per unit length
+        delta = [(normal * (1.0 + s * ratio) / stiffness) ** (2.0 / 3.0) for s in (1.0, -1.0)]
+        np.testing.assert_allclose(y, (delta[0] - delta[1]) / (2.0 * math.cos(math.radians(30.0))), rtol=0.015)
+        np.testing.assert_allclose(h, -(delta[0] + delta[1]), rtol=0.015)
+    if stiffness == 1e6:
+        assert y.min() > 0.01 * math.tan(math.radians(30.0))  # beyond the opening, still held
+    held = sim.state.q
+    sim = _held_by_current(1.01, stiffness)
+    sim.initialize(statics=False, q0=held)
+    for _ in range(30):
+        out = sim.advance(sim.time + 0.1)
+        if out["contact.detached"]:
+            break
+    assert out["contact.detached"] == 1.0
+
+
+def _rolled(roll: float) -> np.ndarray:
+    """Ship state (3, 6) of a ship at rest at a steady roll [deg]."""
+    ship = np.zeros((3, 6))
+    ship[0, 3] = math.radians(roll)
+    return ship
+
+
+def _roll_ratio(roll: float, departure: float, rise: float) -> float:
+    """Sideways over radial force the two tensions press on a sheave rolled by ``roll``
+    [rad]: the cable comes in from the drum in the sheave's plane, rising by ``rise``
+    [rad], and leaves at ``departure`` [rad] from the inertial vertical in the inertial
+    x-z plane, which the roll tilts out of the sheave's plane by cos(departure) sin(roll)."""
+    sideways = math.cos(departure) * math.sin(roll)
+    return sideways / math.hypot(math.sin(departure) - math.cos(rise),
+                                 math.cos(departure) * math.cos(roll) + math.sin(rise))
+
+
+@pytest.mark.parametrize("stiffness", [1e6, 1e8])
+def test_rolled_ship_keeps_the_cable_in_the_groove_up_to_the_v_limit(stiffness):
+    """full_scale in statics with the ship at a steady roll, each roll solved from the
+    last equilibrium (the ship rolling slowly): the cable stays in the groove from 0 to
+    60 deg, with Table 9's k_N = 1e6 as with 1e8. The sheave's force balances the two
+    tensions: its sideways/radial ratio follows the closed form of their directions
+    (upright departure angle and the drum-to-sheave tangent, within 3 %). At 80 deg,
+    beyond the roll at which that ratio reaches the V's cot(theta_g/2) (about 74 deg),
+    the walls cannot hold the cable: it is off the sheave."""
+    sim = Simulation.from_scene("full_scale", {"motion.type": "none", "compensation.algorithm": "none",
+                                               "sheave.contact.stiffness": stiffness})
+    out = sim.initialize()
+    sc = sim.scene
+    gap = np.subtract(sc.sheave.position, sc.winch.position)
+    distance = math.hypot(gap[0], gap[2])
+    rise = math.atan2(gap[2], -gap[0]) - math.asin((sc.winch.radius - sc.sheave.radius) / distance)
+    departure = out["sheave_angle"]
+    limit = math.degrees(brentq(lambda r: _roll_ratio(r, departure, rise) - COT_HALF_THROAT, 0.1, 1.5))
+    assert 70.0 < limit < 78.0
+    for roll in [*np.arange(2.0, 61.0, 2.0), 80.0]:  # steps of 2 deg move the sheave 13 cm sideways
+        out = sim.initialize(ship=_rolled(roll), q0=sim.state.q.copy())
+        if roll > limit:
+            assert out["contact.detached"] == 1.0 and out["contact.sheave_force"] == 0.0
+            continue
+        assert out["contact.detached"] == 0.0, roll
+        if roll % 10.0:
+            continue
+        force = rotation_matrix(*_rolled(roll)[0, 3:6]).T @ sim.contact_state()["force"][1]  # ship frame
+        ratio = abs(force[1]) / math.hypot(force[0], force[2])
+        assert ratio == pytest.approx(_roll_ratio(math.radians(roll), departure, rise), rel=0.03), roll
+
+
+# ------------------------------------------------------------------ the sheave angle
+def _leaving_tangent(sim: Simulation) -> np.ndarray:
+    """The cable's tangent (inertial, unnormalised) where it leaves the sheave: the
+    derivative of the element's Hermite interpolation at the last touching point."""
+    from towcable_fmu.ancf import element
+
+    e, xi = sim.contact_state()["ends"][1][2:]
+    e = int(e)
+    assert e >= 0
+    x = sim.state.q[6 * e: 6 * e + 12].reshape(4, 3)
+    return element.shape_derivatives(xi, sim.mesh.lengths[e]) @ x
+
+
+def _pitched_about(point: np.ndarray, pitch: float) -> np.ndarray:
+    """Ship state (3, 6) at rest, pitched by ``pitch`` [rad] about the ship-fixed
+    ``point`` (body frame [m]), which stays where it is on the upright ship at the origin."""
+    ship = np.zeros((3, 6))
+    ship[0, 4] = pitch
+    ship[0, :3] = point - rotation_matrix(0.0, pitch, 0.0) @ point
+    return ship
+
+
+def test_sheave_angle_is_measured_from_the_inertial_vertical():
+    """full_scale at its upright equilibrium; then the ship pitched by 1 and -2 deg about
+    the sheave's axis with the cable held where it is. The groove is round about that
+    axis, so the cable touches it as before (same contact force). The departure angle
+    from the inertial vertical, which W(1)-(2) combine with inertial displacements,
+    stays that of the cable's own tangent where it leaves the sheave; measured from the
+    ship's vertical it would follow the pitch one to one."""
+    sim = Simulation.from_scene("full_scale", {"motion.type": "none", "compensation.algorithm": "none"})
+    upright = sim.initialize()
+    tangent = _leaving_tangent(sim)
+    assert upright["sheave_angle"] == pytest.approx(math.atan2(-tangent[0], -tangent[2]), abs=1e-12)
+    held = sim.state.q.copy()
+    sheave = np.array(sim.scene.sheave.position)
+    for pitch in (math.radians(1.0), math.radians(-2.0)):
+        out = sim.initialize(ship=_pitched_about(sheave, pitch), statics=False, q0=held)
+        assert out["contact.sheave_force"] == pytest.approx(upright["contact.sheave_force"], rel=1e-9)
+        assert out["sheave_angle"] == pytest.approx(upright["sheave_angle"], abs=1e-9)
+
+
+def test_rigorous_waterline_setpoint_on_a_pitched_ship():
+    """full_scale at equilibrium on a ship pitched 2 deg (its stern and sheave 1.3 m up),
+    with the rigorous waterline compensation and theta_nom = 1.25 rad. By hand, W(1):
+    L = H / cos(theta) - H_nom / cos(theta_nom) with H the sheave centre's height above
+    the waterline and theta the inertial angle of the cable's tangent where it leaves the
+    sheave, and phi_sp = phi_nom - L / (r_w + d/2). The simulation drives the winch with
+    that set-point (an angle measured from the ship's vertical, 2 deg off, would pay out
+    2.5 m too much)."""
+    pitch = math.radians(2.0)
+    sim = Simulation.from_scene("full_scale", {"motion": {"type": "regular", "pitch": {"mean": 2.0}},
+                                               "compensation": {"algorithm": "rigorous_waterline",
+                                                                "theta_nom": 1.25}})
+    sim.initialize()
+    tangent = _leaving_tangent(sim)
+    theta = math.atan2(-tangent[0], -tangent[2])
+    s_ref = np.array(sim.scene.sheave.position)
+    height = (rotation_matrix(0.0, pitch, 0.0) @ s_ref)[2]
+    payout = height / math.cos(theta) - s_ref[2] / math.cos(1.25)
+    phi_sp = sim.scene.winch.phi_nom - payout / winch_radius(sim.scene)
+    sim.advance(0.02)  # the set-point over the step is computed with the angle measured at its start
+    assert sim.get_state()["setpoint"][0] == pytest.approx(phi_sp, abs=1e-9)
 
 
 def test_energy_of_a_swing_over_a_pulley_is_conserved_without_damping():

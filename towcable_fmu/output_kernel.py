@@ -73,17 +73,25 @@ class OutputLayout:
 
 
 @njit(cache=True, inline="always")
-def _angle_in_ship(rot: np.ndarray, ux: float, uy: float, uz: float) -> tuple:
-    """A direction in the ship frame and its angle from the ship's downward vertical
-    towards -X [rad] (the departure angle of the compensation algorithms)."""
-    sx = rot[0, 0] * ux + rot[1, 0] * uy + rot[2, 0] * uz
-    sz = rot[0, 2] * ux + rot[1, 2] * uy + rot[2, 2] * uz
-    return sx, sz, math.atan2(-sx, -sz)
+def _in_ship_plane(rot: np.ndarray, ux: float, uy: float, uz: float) -> tuple:
+    """The ship-frame X and Z components of an inertial direction (its projection on the
+    plane of the drum and the sheave)."""
+    return (rot[0, 0] * ux + rot[1, 0] * uy + rot[2, 0] * uz,
+            rot[0, 2] * ux + rot[1, 2] * uy + rot[2, 2] * uz)
+
+
+@njit(cache=True, inline="always")
+def _departure_angle(ux: float, uz: float) -> float:
+    """Angle of an inertial direction (x, z components) from the inertial downward
+    vertical in the x-z plane, positive towards -x (trailing aft) [rad]: the departure
+    angle theta of the compensation algorithms W(1)-(2), which combine it with inertial
+    displacements."""
+    return math.atan2(-ux, -uz)
 
 
 @njit(cache=True)
 def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, phi: np.ndarray, t: float,
-                  ship: np.ndarray, xi: np.ndarray, body_weight: float, has_winch: bool,
+                  ship: np.ndarray, xi: np.ndarray, body_mass: float, has_winch: bool,
                   sheave_position: np.ndarray, payout_radius: float, phi_nom: float, r: np.ndarray) -> np.ndarray:
     """The outputs of a state (order: :data:`OUTPUT_FIELDS`).
 
@@ -95,8 +103,9 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
         Winch state (rotation [rad], rate, acceleration, ...).
     xi
         Normalised positions per element where the tension extremes are sampled.
-    body_weight
-        Weight of the lumped towed body m g [N]; negative: no lumped towed body (a rigid
+    body_mass
+        Mass of the lumped towed body [kg] (the cable's last node carries it, with the
+        cable's end mass if the scene has one); negative: no lumped towed body (a rigid
         body, ``model.rigid.enabled``, reports from its own coordinates).
     has_winch
         The cable's top end is on a winch drum.
@@ -112,9 +121,10 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     ndarray
         ``tension.top``/``tension.bottom`` are the support reactions at a prescribed end
         (the consistent nodal force), else the axial force from the strain;
-        ``tension.towbody`` is the force the cable exerts on the body (its mass times
-        acceleration minus its own weight and hydrodynamic force; for a rigid body the
-        force in the link to its tow point); a rigid body's ``towbody.x/y/z`` and
+        ``tension.towbody`` is the force the cable exerts on the body (the body's own
+        mass times acceleration minus its own weight and hydrodynamic force: an end mass
+        on the same node belongs to the cable; for a rigid body the force in the link to
+        its tow point); a rigid body's ``towbody.x/y/z`` and
         velocities are those of its CG, and its kinetic energy, weight and link strain
         energy are included in the energies. The contact fields
         follow :meth:`~towcable_fmu.simulation.Simulation.outputs`. Fields a scene does
@@ -131,14 +141,14 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     out[2] = max(t_max, top, bottom)
     out[3] = t_min
     out[4] = math.atan2(math.sqrt(q[3] ** 2 + q[4] ** 2), -q[5])
-    if body_weight >= 0.0:
+    if body_mass >= 0.0:
         hydro = np.zeros(3)
         if model.body.enabled:
             body_force(model.water, model.body, q[last:last + 3], v[last:last + 3], a[last:last + 3], t, hydro)
-        hydro[2] -= body_weight
+        hydro[2] -= body_mass * model.gravity
         total = 0.0
         for c in range(3):
-            total += (model.node_mass[-1, c] * a[last + c] - hydro[c]) ** 2
+            total += (body_mass * a[last + c] - hydro[c]) ** 2
             out[6 + c] = q[last + c]
             out[9 + c] = v[last + c]
         out[5] = math.sqrt(total)
@@ -205,7 +215,7 @@ def _contact_values(model: CableModel, q: np.ndarray, v: np.ndarray, ship: np.nd
         out[15] = element_tension(model, q, min(e + 1, last_el)) if e >= 0 else top
         if not has_sheave:  # the cable departs from the drum: its angle plays the sheave's role
             leave = point_on_cable(model, q, max(e, 0), ends[WINCH, 3] if e >= 0 else 0.0)
-            out[16] = _angle_in_ship(rot, leave[3], leave[4], leave[5])[2]
+            out[16] = _departure_angle(leave[3], leave[5])
     if has_sheave:
         e0, xi0 = int(ends[SHEAVE, 0]), ends[SHEAVE, 1]
         e, xe = int(ends[SHEAVE, 2]), ends[SHEAVE, 3]
@@ -225,18 +235,19 @@ def _contact_values(model: CableModel, q: np.ndarray, v: np.ndarray, ship: np.nd
         leave = point_on_cable(model, q, e, xe)
         # the force carried just off the sheave: the mean over the next element
         out[17] = element_tension(model, q, min(e + 1, last_el))
-        ux, uz, out[16] = _angle_in_ship(rot, leave[3], leave[4], leave[5])
+        out[16] = _departure_angle(leave[3], leave[5])
         out[18] = 0.0
-        if e0 >= 0:  # the wrap: how far the cable turns between meeting and leaving the sheave
+        if e0 >= 0:  # the wrap: how far the cable turns in the sheave's plane between meeting and leaving it
+            ux, uz = _in_ship_plane(rot, leave[3], leave[4], leave[5])
             meet = point_on_cable(model, q, e0, xi0)
-            u0x, u0z, _ = _angle_in_ship(rot, meet[3], meet[4], meet[5])
+            u0x, u0z = _in_ship_plane(rot, meet[3], meet[4], meet[5])
             out[18] = abs(math.atan2(u0x * uz - u0z * ux, u0x * ux + u0z * uz))
         out[19] = 1.0 if lowest[SHEAVE] > 0.0 else 0.0
 
 
 @njit(cache=True)
 def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive_t: np.ndarray,
-                      drive_x: np.ndarray, xi: np.ndarray, body_weight: float, has_winch: bool,
+                      drive_x: np.ndarray, xi: np.ndarray, body_mass: float, has_winch: bool,
                       sheave_position: np.ndarray, payout_radius: float, phi_nom: float, index: np.ndarray,
                       rows: np.ndarray) -> int:
     """Advance through the sample times and record the outputs ``index`` of
@@ -256,7 +267,7 @@ def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive
     for k in range(samples.shape[0]):
         if genalpha_advance(model, opt, st, ws, samples[k], drive_t, drive_x) != 0:
             return k
-        values = output_values(model, st.q, st.v, st.a, st.phi, st.clock[0], ws.ship, xi, body_weight, has_winch,
+        values = output_values(model, st.q, st.v, st.a, st.phi, st.clock[0], ws.ship, xi, body_mass, has_winch,
                                sheave_position, payout_radius, phi_nom, ws.r)
         for j in range(index.shape[0]):
             rows[k, j] = values[index[j]]

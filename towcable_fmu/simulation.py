@@ -122,8 +122,7 @@ class Simulation:
         self._payout_radius = winch_radius(scene) if scene.winch is not None else 0.0  # r_w + d/2 [m]
         self._phi_nom = scene.winch.phi_nom if scene.winch is not None else 0.0
         rigid = bool(self.model.rigid.enabled)
-        self._body_weight = (-1.0 if scene.towbody is None or rigid
-                             else scene.towbody.mass * scene.environment.gravity)
+        self._body_mass = -1.0 if scene.towbody is None or rigid else scene.towbody.mass  # [kg]
         #: The outputs this scene has (names in DESIGN.md), see :meth:`outputs`.
         self.layout = OutputLayout(towbody=scene.towbody is not None, winch=scene.winch is not None,
                                    sheave=scene.sheave is not None, contact=bool(self.model.contact.enabled),
@@ -156,7 +155,8 @@ class Simulation:
         return float(self.state.clock[0])
 
     def initialize(self, t0: float = 0.0, ship: np.ndarray | None = None,
-                   setpoint: tuple[float, float] | None = None, statics: bool | None = None) -> dict[str, float]:
+                   setpoint: tuple[float, float] | None = None, statics: bool | None = None,
+                   q0: np.ndarray | None = None) -> dict[str, float]:
         """Lay out the initial shape, solve the statics and set consistent accelerations.
 
         A rigid load with ``held = true`` is held in the statics along the cable's initial
@@ -172,6 +172,10 @@ class Simulation:
             Winch set-point (phi_sp [rad], phi_sp_rate [rad/s]).
         statics
             Solve the statics first (default: the scene's ``statics.enabled``).
+        q0
+            Start from these coordinates (full vector, e.g. the equilibrium of the same
+            mesh under a slightly different load, to follow a load sweep) instead of the
+            laid-out initial shape; the prescribed entries are overwritten.
 
         Returns
         -------
@@ -196,7 +200,7 @@ class Simulation:
         if self.scene.winch is not None:
             st.phi[0] = self._setpoint[0] if setpoint is not None else self.scene.winch.phi_nom
             self._setpoint = (float(st.phi[0]), self._setpoint[1] if setpoint is not None else 0.0)
-        st.q[:] = self._initial_coordinates(ship0)
+        st.q[:] = self._initial_coordinates(ship0) if q0 is None else self._checked_coordinates(q0, "q0")
         st.v[:] = 0.0
         st.a[:] = 0.0
         st.stats[:] = 0
@@ -225,7 +229,7 @@ class Simulation:
                 sp = self.compensation.compute(ship0, None)
                 self._setpoint = (float(sp.phi_sp), float(sp.phi_sp_rate))
         drive = drive_poly.taylor_drive(t0, ship0, self._setpoint)
-        if not genalpha.initial_acceleration(self.model, st, self.workspace, t0, *drive):
+        if not genalpha.initial_acceleration(self.model, self.options, st, self.workspace, t0, *drive):
             raise SolverError("the initial state has no finite acceleration (singular mass matrix or "
                               "non-finite forces)")
         kernel_cache.prepare(genalpha.advance, self.model, self.options, st, self.workspace, t0, *drive)
@@ -264,21 +268,32 @@ class Simulation:
             Outputs in the new state.
         """
         self._require_initialized()
-        q = np.asarray(q, dtype=float)
-        v = np.zeros_like(q) if v is None else np.asarray(v, dtype=float)
-        if q.shape != self.state.q.shape or v.shape != self.state.q.shape:
-            raise SceneError("q", f"array of shape {q.shape}", f"an array of shape {self.state.q.shape}")
-        if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
-            raise SceneError("q", "non-finite values", "finite coordinates and velocities")
+        q = self._checked_coordinates(q, "q")
+        v = np.zeros_like(q) if v is None else self._checked_coordinates(v, "v")
         st = self.state
         st.q[:] = q
         st.v[:] = v
         t = self.time
         ship = self.motion.evaluate(t)
-        if not genalpha.initial_acceleration(self.model, st, self.workspace, t,
+        if not genalpha.initial_acceleration(self.model, self.options, st, self.workspace, t,
                                              *drive_poly.taylor_drive(t, ship, self._setpoint)):
             raise SolverError("the given configuration has no finite acceleration")
         return self.outputs()
+
+    def _checked_coordinates(self, x: np.ndarray, name: str) -> np.ndarray:
+        """A coordinate (or velocity) vector of this model as a float array.
+
+        Raises
+        ------
+        SceneError
+            If its shape is not the model's or it is not finite.
+        """
+        x = np.asarray(x, dtype=float)
+        if x.shape != self.state.q.shape:
+            raise SceneError(name, f"array of shape {x.shape}", f"an array of shape {self.state.q.shape}")
+        if not np.all(np.isfinite(x)):
+            raise SceneError(name, "non-finite values", "finite coordinates and velocities")
+        return x
 
     def _initial_coordinates(self, ship0: np.ndarray) -> np.ndarray:
         """Rough initial coordinates: the cable's shape, then the load hanging on along its
@@ -540,7 +555,7 @@ class Simulation:
         """All fields of :data:`~towcable_fmu.output_kernel.OUTPUT_FIELDS` (NaN: not in the scene)."""
         st, ws = self.state, self.workspace
         return output_values(self.model, st.q, st.v, st.a, st.phi, self.time, ws.ship, _PROFILE_XI,
-                             self._body_weight, self.scene.winch is not None, self._sheave_position,
+                             self._body_mass, self.scene.winch is not None, self._sheave_position,
                              self._payout_radius, self._phi_nom, ws.r)
 
     def _load_outputs(self) -> dict[str, float]:
@@ -757,7 +772,7 @@ class Simulation:
             if loads is None and self.viv is None:
                 reached = first + advance_recording(
                     self.model, self.options, self.state, self.workspace, samples[first:stop], *drive, _PROFILE_XI,
-                    self._body_weight, self.scene.winch is not None, self._sheave_position, self._payout_radius,
+                    self._body_mass, self.scene.winch is not None, self._sheave_position, self._payout_radius,
                     self._phi_nom, index, values[first + 1:stop + 1])
             else:  # the rigid load's outputs, or the wake coupling, in Python: one sample at a time
                 reached = first

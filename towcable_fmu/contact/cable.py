@@ -18,7 +18,7 @@ from numba import njit
 from ..ancf.partial import active_quadrature, crossing_stiffness, hermite, interpolate
 from ..kinematics import rotation_derivatives
 from ..numerics.banded import band_add_block
-from .surfaces import CYLINDER, ContactModel, face_force
+from .surfaces import CYLINDER, ContactModel, face_force, groove_exit
 
 _MARGIN = 1e-3  # [m] added to the reach of a surface when culling elements
 
@@ -263,8 +263,9 @@ def surface_summary(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_np
     lowest
         (2,) how far the cable is from its seat, minimised over its points on the upper
         half of the surface (Z >= 0) [m] (inf when no point is there): for a plain drum or
-        pulley the height h above the surface; for a groove the larger of (h - h_g) and
-        (|Y| - half-opening), positive when the point is out of the groove.
+        pulley the height h above the surface; for a groove how far the point is out of
+        it (:func:`~towcable_fmu.contact.surfaces.groove_exit`: above the groove top, or
+        its contact point on the wall of its side above the top), positive when out.
     energy
         (2,) elastic energy stored in the contact [J].
     dist
@@ -314,8 +315,8 @@ def surface_summary(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_np
                 sx, sy, sz, _, _, _ = _ship_point(c, f, rot, rot1, ship, rx, ry, rz, vx, vy, vz)
                 if p < npts and sz >= 0.0:
                     h = math.sqrt(sx * sx + sz * sz) - (c.face_radius[f] + half_d)
-                    if c.face_kind[f] != CYLINDER:  # out of a groove: above its top or beside its opening
-                        h = max(h - c.face_depth[f], abs(sy) - c.face_open[f])
+                    if c.face_kind[f] != CYLINDER:  # out of a groove: above its top, or climbed out
+                        h = groove_exit(c, f, h, sy)
                     lowest[s] = min(lowest[s], h)
                 wp = wt[p]
                 if wp == 0.0:

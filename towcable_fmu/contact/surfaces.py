@@ -11,18 +11,35 @@ position:
 * groove wall on the +Y side: ``delta = Y cos(theta_g/2) - h sin(theta_g/2)``, normal
   ``-cos(theta_g/2) e_Y + sin(theta_g/2) e_rho``; on the -Y side with ``-Y`` (W(100);
   the reference prints the normals with an X component, which in the YZ plane of W(96)
-  is the Y component); no force when ``h > h_g`` (W(101));
-* the rims (flange tops) beside the groove opening ``|Y| > Y_o = h_g tan(theta_g/2)``, out
-  to ``Y_o + w`` (rim width w): ``delta = h_g - h``, normal ``e_rho``. Deviation: the
-  reference's walls extend sideways without end, so a cable that has climbed out of the
-  groove and is pulled down beside it meets an ever deeper penetration and is thrown back
-  violently; with the rims it lands on the flange top or slides off the sheave's side
-  (no contact beyond the rim), and the walls act only within the opening.
+  is the Y component). A wall pushes while the cable's contact point on it, the foot of
+  the normal through the centreline at height ``h_w = h + delta sin(theta_g/2)``, lies
+  below the groove top ``h_g`` (W(101), W(105): no force once the cable has climbed
+  above the top). There is no sideways limit: a cable that the soft penalty lets sink
+  below its seat (Table 9's k_N = 1e6: about 68 mm on ``full_scale``) and that is pushed
+  sideways keeps both walls, which hold it up to a sideways/radial load ratio of
+  ``cot(theta_g/2)``;
+* the rims (flange tops) beside the groove, for a cable that has climbed out (its
+  contact point on the wall of its side above the groove top, ``h_w > h_g``) and lies
+  within ``Y_o + w`` of the groove centre (``Y_o = h_g tan(theta_g/2)`` the half-opening,
+  w the rim width): ``delta = h_g - h``, normal ``e_rho``. Deviation: the reference has
+  no rims; with them a cable that has climbed out lands on the flange top and can be
+  carried back into the groove, or slides off the sheave's side (no rim beyond
+  ``Y_o + w``).
+
+Where the contact point on a wall passes the groove top the wall hands over to the rim
+(the two never act on the same point; there the rim's penetration is sin(theta_g/2)
+times the wall's, so the handover is not continuous and a cable crossing the corner
+does not keep its contact energy exactly), and :func:`groove_exit` measures how far a
+point is out of the groove with the same geometry. The walls also reach a cable that
+sank so deep that its centreline lies beside the sheave (beyond ``Y_o + w``) while its
+contact point is still on the wall: only the soft penalty puts it there, and the
+reference's walls carry it.
 
 Force per unit length after Hunt and Crossley W(93): ``k delta^n (1 + D d(delta)/dt)``
 along the normal, never pulling (the bracket is clipped at zero). Each face reports an
-indicator ``g`` (active where g > 0: ``delta`` and, for a wall, ``h_g - h``) for the
-partial-element quadrature.
+indicator ``g`` (active where g > 0: ``delta`` and, for a wall, ``h_g - h_w``; for a
+rim, ``h_w - h_g`` and the distance to the rim's outer edge) for the partial-element
+quadrature.
 """
 
 from __future__ import annotations
@@ -53,8 +70,8 @@ class ContactModel(NamedTuple):
     face_depth: np.ndarray    #: (nf,) groove depth h_g [m] (0 for a cylinder)
     face_cos: np.ndarray      #: (nf,) cos(theta_g / 2)
     face_sin: np.ndarray      #: (nf,) sin(theta_g / 2)
-    face_open: np.ndarray     #: (nf,) half-opening of the groove at its top Y_o [m] (wall faces are active within)
-    face_rim: np.ndarray      #: (nf,) rim width beyond the opening [m] (rim faces are active there)
+    face_open: np.ndarray     #: (nf,) half-opening of the groove at its top Y_o [m] (the rims start there)
+    face_rim: np.ndarray      #: (nf,) rim width beyond the opening [m] (rim faces end at Y_o + width)
     face_k: np.ndarray        #: (nf,) stiffness k_N
     face_n: np.ndarray        #: (nf,) exponent n
     face_damping: np.ndarray  #: (nf,) D [s/m]
@@ -66,6 +83,37 @@ def no_contact() -> ContactModel:
     z = np.zeros(0)
     return ContactModel(False, np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros((0, 3)), z, z,
                         z, z, z, z, z, z, z, np.zeros(1, dtype=np.int64))
+
+
+@njit(cache=True, inline="always")
+def wall_contact_height(h: float, y: float, ca: float, sa: float) -> float:
+    """Height above the seat of a point's contact point on the groove wall of its side [m].
+
+    The foot of the normal from the centreline at ``(y, h)`` onto the wall of the side of
+    ``y`` (the +Y wall for y >= 0), W(100): ``h + delta sin(theta_g/2)`` with that wall's
+    penetration ``delta = |y| cos(theta_g/2) - h sin(theta_g/2)``.
+
+    Parameters
+    ----------
+    h
+        Height of the centreline above its seated position [m].
+    y
+        Axial offset from the groove centre [m].
+    ca, sa
+        cos(theta_g / 2), sin(theta_g / 2).
+    """
+    return h + (abs(y) * ca - h * sa) * sa
+
+
+@njit(cache=True, inline="always")
+def groove_exit(c: ContactModel, f: int, h: float, y: float) -> float:
+    """How far a point is out of face f's groove [m]: positive above the groove top, or
+    with its contact point on the wall of its side above the top (climbed out).
+
+    ``max(h, h_w) - h_g``, :func:`wall_contact_height`; the faces of a groove switch with
+    the same geometry (walls where it is negative, rims where the contact point is above).
+    """
+    return max(h, wall_contact_height(h, y, c.face_cos[f], c.face_sin[f])) - c.face_depth[f]
 
 
 @njit(cache=True, inline="always")
@@ -107,15 +155,15 @@ def face_force(c: ContactModel, f: int, half_d: float, x: float, y: float, z: fl
         delta = c.face_depth[f] - h
         ddelta = -rho_dot
         nx, ny, nz = ex, 0.0, ez
-        side = abs(y) - c.face_open[f]
-        g = min(delta, min(side, c.face_rim[f] - side))
+        climbed = wall_contact_height(h, y, c.face_cos[f], c.face_sin[f]) - c.face_depth[f]
+        g = min(delta, min(climbed, c.face_open[f] + c.face_rim[f] - abs(y)))
     else:
         ca, sa = c.face_cos[f], c.face_sin[f]
         sign = 1.0 if kind == WALL_PLUS else -1.0
         delta = sign * y * ca - h * sa
         ddelta = sign * vy * ca - rho_dot * sa
         nx, ny, nz = sa * ex, -sign * ca, sa * ez
-        g = min(delta, min(c.face_depth[f] - h, c.face_open[f] - abs(y)))
+        g = min(delta, c.face_depth[f] - (h + delta * sa))
     if delta <= 0.0:
         return 0.0, 0.0, 0.0, g, 0.0
     n = c.face_n[f]

@@ -5,9 +5,10 @@ u = (X_2 - X_1)/L and current length L:
 
 * strain from current against original length, eqs. 7-11: eps = L/L0 - 1 = B X - 1 with
   B = [-u, u]/L0;
-* elastic force, eq. 13: K X - F0 = EA L B^T eps = EA (L/L0) eps [-u, u] (the tension
-  EA eps (1 + eps) is the derivative of the strain energy over the current length; a
-  tension-only material sets the elastic part to 0 when eps < 0);
+* elastic force, eq. 13: K X - F0 = EA L B^T eps = EA (L/L0) eps [-u, u], a tension
+  EA eps L/L0 = EA eps (1 + eps) as the paper writes it (the derivative of the strain
+  energy EA L0 eps^2 / 2 with respect to the current length is EA eps: they differ at
+  O(eps^2)); a tension-only material sets the elastic part to 0 when eps < 0;
 * material damping C = c K, eqs. 14-15: C Xdot = BA (L/L0) epsdot [-u, u] with
   BA = c EA [N s] (the scene's segment ``damping``) and epsdot = u . (V_2 - V_1)/L0;
   it acts also in a slack element, as in the peers' Kelvin-Voigt law;

@@ -273,19 +273,23 @@ def refactorize_from_state(model: CableModel, opt: SolverOptions, st: Integrator
 
 
 @njit(cache=True)
-def initial_acceleration(model: CableModel, st: IntegratorState, ws: Workspace, t: float,
+def initial_acceleration(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Workspace, t: float,
                          drive_t: np.ndarray, drive_x: np.ndarray) -> bool:
     """Set prescribed kinematics at t and solve ``M a = -F`` for consistent accelerations.
 
-    Also initialises the winch acceleration from the PD law (gains taken as zero here:
-    the caller sets ``phi`` consistently) and invalidates the Jacobian.
+    The winch's acceleration is that of its PD law W(136) at t,
+    ``k1 (phi_sp - phi) + k2 (phi_sp_rate - phi_rate)`` with the drive's set-point: a drum
+    started off its set-point, or at rest under a moving one, accelerates from the first
+    instant, and the cable end on it with it (generalised-alpha needs consistent initial
+    accelerations for its second order). Also invalidates the Jacobian.
 
     Returns
     -------
     bool
         False if the mass matrix is singular or the forces are not finite.
     """
-    evaluate_drive(drive_t, drive_x, t, ws.ship)
+    sp, sp_rate = evaluate_drive(drive_t, drive_x, t, ws.ship)
+    st.phi[2] = opt.winch_kp * (sp - st.phi[0]) + opt.winch_kd * (sp_rate - st.phi[1])
     apply_prescribed(model.att_index, model.att_kind, model.att_vec, model.att_radius, ws.ship, st.phi,
                      st.q, st.v, st.a)
     for i in range(model.free_dofs.shape[0]):

@@ -71,7 +71,9 @@ class End:
     slope: tuple[float, ...] | None = spec(None, unit="-", length=3,
                                            doc="clamped ends: cable direction leaving the end, pointing into "
                                                "the cable (normalised)")
-    mass: float = spec(0.0, unit="kg", ge=0.0, doc="point mass lumped at a free end")
+    mass: float = spec(0.0, unit="kg", ge=0.0,
+                       doc="point mass lumped at a free end (at the bottom beside a [towbody], e.g. a clump "
+                           "weight: part of the cable, not of the body whose pull tension.towbody reports)")
 
     def validate(self, key: str) -> None:
         """Cross-field checks."""
@@ -479,8 +481,6 @@ class Scene:
         if self.load is not None and self.load.held and not self.statics.enabled:
             raise SceneError("load.held", True, "false when statics.enabled = false (the load is held in the "
                                                 "static equilibrium)")
-        if self.towbody is not None and self.cable.bottom.mass > 0.0:
-            raise SceneError("cable.bottom.mass", self.cable.bottom.mass, "0 with a [towbody] (give its mass there)")
         if self.free_floating and self.statics.enabled and self.sheave is None:
             raise SceneError("statics.enabled", True, "false when both cable ends are free and nothing holds the "
                                                       "cable (a falling or drifting cable has no equilibrium)")
