@@ -154,7 +154,9 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     return out
 
 
-@njit(cache=True)
+# IR-inlined into its only caller: a kernel of its own would be one more library for the
+# caller to link and optimise again, with all the code beneath it.
+@njit(cache=True, inline="always")
 def _rigid_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, out: np.ndarray,
                   kinetic: float, strain: float, gravity: float) -> tuple:
     """A rigid towed body's CG, velocity, attitude and link force into ``out``; returns the
@@ -182,7 +184,7 @@ def _rigid_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     return kinetic, strain + 0.5 * model.rigid_k * stretch, gravity + b.mass * model.gravity * q[i + 2]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # (as _rigid_values)
 def _contact_values(model: CableModel, q: np.ndarray, v: np.ndarray, ship: np.ndarray, has_winch: bool,
                     sheave_position: np.ndarray, top: float, out: np.ndarray) -> None:
     """Contact forces, departure tensions and angle, wrap and detachment into ``out``."""
