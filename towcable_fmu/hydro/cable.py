@@ -57,8 +57,9 @@ class CableHydro(NamedTuple):
     calls: np.ndarray      #: (1,) int64 counter of point evaluations (to verify skipping)
 
 
-# Scalar arguments only: a plain kernel, which LLVM inlines where it pays. An IR-inlined
-# (``inline="always"``) copy at each of its call sites would be typed again per site.
+# Scalar arguments only: a plain kernel, compiled once with the loading functions and
+# C_D(Re) inlined; its two calls per point cost little next to its work. IR-inlined
+# (inline="always") at its call sites, all of it would be expanded and typed again at each.
 @njit(cache=True)
 def drag(rho: float, mu: float, kind: int, d: float, cd_fixed: float, vx: float, vy: float, vz: float,
          ux: float, uy: float, uz: float) -> tuple:

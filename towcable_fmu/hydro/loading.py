@@ -31,13 +31,13 @@ LOADINGS = {"bare": BARE, "faired": FAIRED, "sun2011_bare": SUN_BARE, "sun2011_f
 #: Smallest Reynolds number at which C_D(Re) is evaluated.
 RE_MIN = 1e-3
 
-# The public functions take and return scalars only: plain kernels, which LLVM inlines
-# into their callers (an IR-inlined copy per call site would be typed again at each).
-# The branch helpers are IR-inlined once, inside drag_coefficient: called as kernels
-# with literal branch numbers they would compile a specialisation per literal.
+# All IR-inlined (inline="always") into their one caller, the plain kernel
+# towcable_fmu.hydro.cable.drag, which is compiled once: calls to them from the point
+# loops would cost run time (a call spills every floating-point value the caller holds).
+# The branch helpers called as kernels would compile a specialisation per literal branch.
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def loading_functions(kind: int, cos_eta: float, sin_eta: float) -> tuple[float, float]:
     """(f_n, f_t) of the loading functions ``kind`` (module docstring).
 
@@ -77,7 +77,7 @@ def _cd_branch(re: float, branch: int) -> float:
     return 1.1 + 4.0 / math.sqrt(re)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def drag_coefficient(re: float) -> float:
     """Common drag coefficient C_D(Re) of a cable, W(61)-(62).
 
