@@ -437,8 +437,8 @@ def _restore(st, ws, phi0):
     st.phi[:] = phi0
 
 
-# Inlined into advance_recording (a run's one compiled call); still a kernel of its own
-# where Python calls it (co-simulation steps).
+# IR-inlined into towcable_fmu.output_kernel.advance_recording, the one compiled call
+# Simulation steps with (a kernel of its own would link and optimise everything again).
 @njit(cache=True, inline="always")
 def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Workspace, t_end: float,
             drive_t: np.ndarray, drive_x: np.ndarray) -> int:
