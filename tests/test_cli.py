@@ -183,6 +183,31 @@ def test_progress_prints_at_most_every_interval_then_the_end(clock):
     assert text.endswith("\n")
 
 
+def test_progress_rate_counts_from_the_first_report_not_from_the_set_up(clock):
+    """100 s of set-up (the kernels compiling) before the run's first report at t = 0;
+    then 30 s simulated in 6 s of wall time: 5x real time, not 30 / 106."""
+    out = io.StringIO()
+    progress = Progress(every=2.0, stream=out)
+    clock.now += 100.0
+    progress(0.0, 60.0)
+    clock.now += 6.0
+    progress(30.0, 60.0)
+    t, t_end, pct, rate, eta = _numbers(out.getvalue().strip("\r"))
+    assert (t, pct) == (30.0, 50.0)
+    assert rate == pytest.approx(5.0, abs=0.05)
+    assert eta == pytest.approx(6.0, abs=0.05)
+
+
+def test_progress_of_an_empty_run_after_a_long_set_up_prints_nothing(clock):
+    """A run of no simulated time whose only report is its end (a 1 s run that took one
+    block), after a set-up longer than ``every``: no division by the empty span."""
+    out = io.StringIO()
+    progress = Progress(every=2.0, stream=out)
+    clock.now += 100.0
+    progress(10.0, 10.0)
+    assert out.getvalue() == ""
+
+
 def test_console_script_is_installed():
     proc = subprocess.run([sys.executable, "-m", "towcable_fmu.cli", "scenes"], capture_output=True, text=True,
                           check=True)

@@ -24,20 +24,23 @@ from .scene import builtin_scene_names, load_scene, parse_override
 class Progress:
     """Prints progress of a long run to stderr, at most every ``every`` seconds of wall time.
 
-    Silent for runs that finish within ``every`` seconds.
+    The clock starts at the first report (the run's start time), so the rate and the
+    remaining time are those of the run, not of the set-up or the kernels' compiling
+    before it. Silent for runs that finish within ``every`` seconds.
     """
 
     def __init__(self, every: float = 2.0, stream=sys.stderr) -> None:
-        self.start = time.perf_counter()
-        self.last = self.start
         self.every = every
         self.stream = stream
-        self.t_start: float | None = None
+        self.start: float | None = None
+        self.last = 0.0
+        self.t_start = 0.0
 
     def __call__(self, t: float, t_end: float) -> None:
         now = time.perf_counter()
-        if self.t_start is None:
-            self.t_start = t
+        if self.start is None:  # the run's start: nothing done yet to report
+            self.start, self.last, self.t_start = now, now, t
+            return
         if now - self.last < self.every and t < t_end:
             return
         if now - self.start < self.every:
@@ -46,10 +49,11 @@ class Progress:
         elapsed = now - self.start
         done = t - self.t_start
         total = t_end - self.t_start
-        rate = done / elapsed if elapsed > 0 else float("nan")
+        share = 100.0 * done / total if total > 0 else 100.0
+        rate = done / elapsed
         eta = (total - done) / rate if rate > 0 else float("nan")
         eta_text = f"{eta:6.1f} s" if math.isfinite(eta) else "    -- s"
-        self.stream.write(f"\r  t = {t:9.2f} / {t_end:.2f} s  ({100 * done / total:5.1f} %)  "
+        self.stream.write(f"\r  t = {t:9.2f} / {t_end:.2f} s  ({share:5.1f} %)  "
                           f"{rate:7.1f} x real time  ETA {eta_text}")
         if t >= t_end:
             self.stream.write("\n")

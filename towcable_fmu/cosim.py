@@ -587,6 +587,8 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
     model_start = {name: float(io.outputs[slot]) for name, slot in model_slot.items()}
     loop_start = time.perf_counter()
     k, row, chunk = 0, 0, 1
+    if progress is not None:
+        progress(t0, t0 + n_steps * h)
     while k < n_steps:
         stop = min(n_steps, k + chunk)
         a = time.perf_counter()

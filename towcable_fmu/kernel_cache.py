@@ -140,12 +140,6 @@ class CompileWatch(event.Listener):
             self.seconds += time.perf_counter() - self._start
 
 
-def prepare(kernel, *args) -> None:
-    """Compile ``kernel`` (or load it from the cache) for the types of ``args`` without
-    calling it: done at initialisation, so that a run does not stop to compile mid-way."""
-    kernel.compile(tuple(kernel.typeof_pyval(arg) for arg in args))
-
-
 #: The process's watch (registered by :func:`install`).
 WATCH = CompileWatch()
 

@@ -89,7 +89,10 @@ def _departure_angle(ux: float, uz: float) -> float:
     return math.atan2(-ux, -uz)
 
 
-@njit(cache=True)
+# IR-inlined into advance_recording, the one compiled call that steps and reads outputs
+# (Simulation reads the outputs of a state through it): a kernel of its own would be one
+# more library linking and optimising the residual and contact code beneath it again.
+@njit(cache=True, inline="always")
 def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, phi: np.ndarray, t: float,
                   ship: np.ndarray, xi: np.ndarray, body_mass: float, has_winch: bool,
                   sheave_position: np.ndarray, payout_radius: float, phi_nom: float, r: np.ndarray) -> np.ndarray:
@@ -164,7 +167,9 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     return out
 
 
-@njit(cache=True)
+# IR-inlined into its only caller: a kernel of its own would be one more library for the
+# caller to link and optimise again, with all the code beneath it.
+@njit(cache=True, inline="always")
 def _rigid_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, out: np.ndarray,
                   kinetic: float, strain: float, gravity: float) -> tuple:
     """A rigid towed body's CG, velocity, attitude and link force into ``out``; returns the
@@ -192,7 +197,7 @@ def _rigid_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     return kinetic, strain + 0.5 * model.rigid_k * stretch, gravity + b.mass * model.gravity * q[i + 2]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # (as _rigid_values)
 def _contact_values(model: CableModel, q: np.ndarray, v: np.ndarray, ship: np.ndarray, has_winch: bool,
                     sheave_position: np.ndarray, top: float, out: np.ndarray) -> None:
     """Contact forces, departure tensions and angle, wrap and detachment into ``out``."""
@@ -249,28 +254,33 @@ def _contact_values(model: CableModel, q: np.ndarray, v: np.ndarray, ship: np.nd
 def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive_t: np.ndarray,
                       drive_x: np.ndarray, xi: np.ndarray, body_mass: float, has_winch: bool,
                       sheave_position: np.ndarray, payout_radius: float, phi_nom: float, index: np.ndarray,
-                      rows: np.ndarray) -> int:
+                      rows: np.ndarray, finite: bool) -> int:
     """Advance through the sample times and record the outputs ``index`` of
     :func:`output_values` (the scene's, :class:`OutputLayout`) at each.
 
     One compiled call for a whole block of samples (no Python between them). ``rows``
     (len(samples), len(index)) receives the outputs; ``opt``, ``st``, ``ws`` are the
-    solver options, state and workspace of :mod:`towcable_fmu.numerics.genalpha`.
+    solver options, state and workspace of :mod:`towcable_fmu.numerics.genalpha`. It is
+    the one kernel :class:`~towcable_fmu.simulation.Simulation` steps with: with no
+    ``index`` it only steps (no outputs are computed), and one sample at the current
+    time reads the outputs of the state.
 
     Returns
     -------
     int
         The number of samples reached: ``len(samples)``, or the index of the sample whose
-        step failed (the state is then the last accepted step) or whose outputs are not
-        finite.
+        step failed (the state is then the last accepted step) or, with ``finite``, whose
+        outputs are not finite.
     """
     for k in range(samples.shape[0]):
         if genalpha_advance(model, opt, st, ws, samples[k], drive_t, drive_x) != 0:
             return k
+        if index.shape[0] == 0:
+            continue
         values = output_values(model, st.q, st.v, st.a, st.phi, st.clock[0], ws.ship, xi, body_mass, has_winch,
                                sheave_position, payout_radius, phi_nom, ws.r)
         for j in range(index.shape[0]):
             rows[k, j] = values[index[j]]
-            if not np.isfinite(rows[k, j]):
+            if finite and not np.isfinite(rows[k, j]):
                 return k
     return samples.shape[0]

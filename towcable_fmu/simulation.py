@@ -14,13 +14,12 @@ from typing import Any, Callable, Iterable, Mapping
 import numpy as np
 
 from . import drive as drive_poly
-from . import kernel_cache
 from .ancf import element, initial_shape, measures
 from .ancf.mesh import Mesh, build_mesh, build_model, held_load_forces, winch_radius
 from .ancf.prescribed import apply_prescribed
 from .ancf.system import CableModel, residual
 from .contact.cable import surface_summary
-from .output_kernel import OutputLayout, advance_recording, output_values
+from .output_kernel import OUTPUT_FIELDS, OutputLayout, advance_recording
 from .errors import SceneError, SolverError
 from .kinematics import rotation_matrix
 from .nodal.rigid_body import ROW_TOW, angular_kinematics, rotation, tow_point_state
@@ -33,6 +32,11 @@ from .sampling import output_interval, sample_times
 
 #: Normalised element positions at which the tension profile is sampled.
 _PROFILE_XI = np.array([0.0, 0.5, 1.0])
+#: advance_recording's arguments to step without outputs, and to read all outputs of a state
+_NO_OUTPUTS = np.zeros(0, dtype=np.intp)
+_NO_ROWS = np.empty((1, 0))
+_ALL_OUTPUTS = np.arange(len(OUTPUT_FIELDS), dtype=np.intp)
+_NO_DRIVE = (np.zeros(1), np.zeros((1, 3, 7)))
 
 
 def _motion_source(scene: Scene):
@@ -232,7 +236,6 @@ class Simulation:
         if not genalpha.initial_acceleration(self.model, self.options, st, self.workspace, t0, *drive):
             raise SolverError("the initial state has no finite acceleration (singular mass matrix or "
                               "non-finite forces)")
-        kernel_cache.prepare(genalpha.advance, self.model, self.options, st, self.workspace, t0, *drive)
         self._initialized = True
         self._last_outputs = self.outputs()
         return self._last_outputs
@@ -405,7 +408,7 @@ class Simulation:
         """genalpha.advance to t_end; with wake oscillators, one solver step at a time with the
         staggered coupling of :mod:`towcable_fmu.viv.coupling`. Returns the solver status."""
         if self.viv is None:
-            return genalpha.advance(self.model, self.options, self.state, self.workspace, t_end, *drive)
+            return self._step_to(t_end, drive)
         st = self.state
         while self.time < t_end - 1e-12 * max(1.0, abs(t_end)):
             t = self.time
@@ -413,7 +416,7 @@ class Simulation:
             if t_end - (t + h) < 1e-9 * h:
                 h = t_end - t
             self.viv.predict(st.v, st.a, h)
-            status = genalpha.advance(self.model, self.options, st, self.workspace, t + h, *drive)
+            status = self._step_to(t + h, drive)
             if status != genalpha.OK:
                 return status
             self.viv.correct(st.v, self.time - t)
@@ -553,10 +556,21 @@ class Simulation:
 
     def _output_array(self) -> np.ndarray:
         """All fields of :data:`~towcable_fmu.output_kernel.OUTPUT_FIELDS` (NaN: not in the scene)."""
-        st, ws = self.state, self.workspace
-        return output_values(self.model, st.q, st.v, st.a, st.phi, self.time, ws.ship, _PROFILE_XI,
-                             self._body_mass, self.scene.winch is not None, self._sheave_position,
-                             self._payout_radius, self._phi_nom, ws.r)
+        rows = np.empty((1, len(OUTPUT_FIELDS)))
+        advance_recording(self.model, self.options, self.state, self.workspace, np.array([self.time]), *_NO_DRIVE,
+                          *self._output_arguments(), _ALL_OUTPUTS, rows, False)
+        return rows[0]
+
+    def _step_to(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> int:
+        """genalpha.advance to t_end (through advance_recording, recording nothing); the solver status."""
+        reached = advance_recording(self.model, self.options, self.state, self.workspace, np.array([t_end]),
+                                    *drive, *self._output_arguments(), _NO_OUTPUTS, _NO_ROWS, False)
+        return genalpha.OK if reached == 1 else genalpha.FAILED_MIN_STEP
+
+    def _output_arguments(self) -> tuple:
+        """The arguments of :func:`~towcable_fmu.output_kernel.output_values` that describe the scene."""
+        return (_PROFILE_XI, self._body_mass, self.scene.winch is not None, self._sheave_position,
+                self._payout_radius, self._phi_nom)
 
     def _load_outputs(self) -> dict[str, float]:
         """Swing angle of the rigid load and the force the cable exerts on it."""
@@ -765,15 +779,16 @@ class Simulation:
         # as advance()
         rigorous = self.compensation is not None and self.compensation.config.rigorous
         chunk = 1 if rigorous else max(1, int(1.0 / dt))
+        if progress is not None:
+            progress(t0, t0 + duration)
         for first in range(0, n, chunk):
             stop = min(n, first + chunk)
             drive = self._drive(np.concatenate([[self.time], samples[first:stop]]))
             self._cover(samples[stop - 1])
             if loads is None and self.viv is None:
                 reached = first + advance_recording(
-                    self.model, self.options, self.state, self.workspace, samples[first:stop], *drive, _PROFILE_XI,
-                    self._body_mass, self.scene.winch is not None, self._sheave_position, self._payout_radius,
-                    self._phi_nom, index, values[first + 1:stop + 1])
+                    self.model, self.options, self.state, self.workspace, samples[first:stop], *drive,
+                    *self._output_arguments(), index, values[first + 1:stop + 1], True)
             else:  # the rigid load's outputs, or the wake coupling, in Python: one sample at a time
                 reached = first
                 while reached < stop and self._integrate(samples[reached], drive) == genalpha.OK:

@@ -63,7 +63,10 @@ def tension_profile(model: CableModel, q: np.ndarray, xi: np.ndarray) -> np.ndar
     return out
 
 
-@njit(cache=True)
+# The energies and the summary are IR-inlined into their only callers (summary, and
+# output_kernel.output_values): a kernel of its own would be one more library for the
+# caller to link and optimise again, with all the code beneath it.
+@njit(cache=True, inline="always")
 def kinetic_energy(model: CableModel, v: np.ndarray) -> float:
     """Kinetic energy of the cable and the lumped masses [J] (structural mass only)."""
     energy = 0.0
@@ -80,7 +83,7 @@ def kinetic_energy(model: CableModel, v: np.ndarray) -> float:
     return energy
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def bending_energy(model: CableModel, q: np.ndarray) -> float:
     """Bending strain energy 1/2 q^T K_b q [J], W(48) with W(51)."""
     energy = 0.0
@@ -95,7 +98,7 @@ def bending_energy(model: CableModel, q: np.ndarray) -> float:
     return energy
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def gravity_energy(model: CableModel, q: np.ndarray) -> float:
     """Potential energy of gravity (and any other constant load) -f_const . q [J]."""
     energy = 0.0
@@ -104,7 +107,7 @@ def gravity_energy(model: CableModel, q: np.ndarray) -> float:
     return energy
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def summary(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: float, ship: np.ndarray,
             xi: np.ndarray, r: np.ndarray) -> np.ndarray:
     """The scalar outputs of a state in one compiled pass (order: :data:`SUMMARY_FIELDS`).

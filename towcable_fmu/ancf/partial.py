@@ -19,7 +19,8 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True, inline="always")
+# Scalars only: a plain kernel (LLVM inlines it), not IR-inlined at each of its many call sites.
+@njit(cache=True)
 def hermite(xi: float, length: float) -> tuple:
     """(N_0..N_3, dN_0/dp..dN_3/dp) at xi for an element of length L."""
     xi2 = xi * xi

@@ -213,7 +213,9 @@ def _rigid_local(model: CableModel, x: np.ndarray, z: np.ndarray) -> None:
         z[3 + c] = x[i + c]
 
 
-@njit(cache=True)
+# IR-inlined into its only caller: a kernel of its own would be one more library for the
+# caller to link and optimise again, with all the code beneath it.
+@njit(cache=True, inline="always")
 def _rigid_residual(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: float,
                     out: np.ndarray) -> None:
     """Add the rigid body's rows and its link force on the last node to ``out``."""
@@ -234,7 +236,7 @@ def _rigid_residual(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarr
         out[i + c] += rows[3 + c]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # (as _rigid_residual)
 def rigid_block(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, ca: float, cv: float,
                 cq: float) -> np.ndarray:
     """``ca M + cv C + cq K`` of the rigid body and its link over the 9 local coordinates.
@@ -276,7 +278,7 @@ def rigid_block(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, ca: f
     return block
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # (as _rigid_residual)
 def _rigid_jacobian(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, ca: float, cv: float, cq: float,
                     ab: np.ndarray) -> None:
     """Add :func:`rigid_block` to the band storage ``ab``."""
@@ -294,7 +296,7 @@ def _rigid_jacobian(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, c
                 ab[off + fr - fc, fc] += block[r, c]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # (as _rigid_residual; small, two callers)
 def _load_link(model: CableModel, q: np.ndarray) -> tuple:
     """Separation d = r_P - r_I, its length and the link strain of the rigid load."""
     i = model.load_index
@@ -304,7 +306,7 @@ def _load_link(model: CableModel, q: np.ndarray) -> tuple:
     return dx, dy, dz, length, (length - model.load_length) / model.load_length
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # (as _rigid_residual)
 def _load_residual(model: CableModel, q: np.ndarray, a: np.ndarray, out: np.ndarray) -> None:
     """Inertia W(138) and link force W(139) of the rigid load (P = last node, I = extra point)."""
     i = model.load_index
@@ -317,7 +319,7 @@ def _load_residual(model: CableModel, q: np.ndarray, a: np.ndarray, out: np.ndar
         out[i + c] += m_pi * a[p + c] + m_ii * a[i + c] - k * dc
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # (as _rigid_residual)
 def _load_jacobian(model: CableModel, q: np.ndarray, ca: float, cq: float, ab: np.ndarray) -> None:
     i = model.load_index
     p = i - 6

@@ -91,17 +91,23 @@ def _element_points(q, v, base, length, npts, pts):
 @njit(cache=True, inline="always")
 def _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, pts, xi, wt, g, cross, fpt):
     """Active quadrature of face f on one element (grid points in ``pts``); forces and stored
-    energy density at all its points into ``fpt`` (columns fx, fy, fz [N/m], energy [J/m])."""
-    for j in range(npts):
-        fpt[j, 0], fpt[j, 1], fpt[j, 2], g[j], fpt[j, 3] = _inertial_force(
-            c, f, half_d, rot, rot1, ship, pts[j, 0], pts[j, 1], pts[j, 2], pts[j, 3], pts[j, 4], pts[j, 5])
-    count = active_quadrature(length, npts, g, xi, wt, cross)
-    for p in range(npts, count):
-        n = hermite(xi[p], length)
-        rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
-        vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
-        fpt[p, 0], fpt[p, 1], fpt[p, 2], _, fpt[p, 3] = _inertial_force(c, f, half_d, rot, rot1, ship, rx, ry,
-                                                                        rz, vx, vy, vz)
+    energy density at all its points into ``fpt`` (columns fx, fy, fz [N/m], energy [J/m]).
+    The crossing points are appended to ``pts``."""
+    count = npts
+    start = 0
+    for stage in range(2):  # the grid, then the crossings its indicator gives (one inlined force call)
+        for p in range(start, count):
+            fpt[p, 0], fpt[p, 1], fpt[p, 2], gp, fpt[p, 3] = _inertial_force(
+                c, f, half_d, rot, rot1, ship, pts[p, 0], pts[p, 1], pts[p, 2], pts[p, 3], pts[p, 4], pts[p, 5])
+            if stage == 0:
+                g[p] = gp
+        if stage == 0:
+            count = active_quadrature(length, npts, g, xi, wt, cross)
+            for p in range(npts, count):
+                n = hermite(xi[p], length)
+                pts[p, 0], pts[p, 1], pts[p, 2] = interpolate(q, base, n[0], n[1], n[2], n[3])
+                pts[p, 3], pts[p, 4], pts[p, 5] = interpolate(v, base, n[0], n[1], n[2], n[3])
+            start = npts
     return count
 
 
@@ -181,6 +187,7 @@ def add_jacobian(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_npts:
     dg = np.zeros((m, 3))
     jac = np.empty((3, 6))
     state = np.empty(6)
+    f0 = np.empty(4)
     ke = np.empty((12, 12))
     pts = np.empty((m, 6))
     faces = np.empty(c.face_kind.shape[0], dtype=np.int64)
@@ -215,15 +222,22 @@ def add_jacobian(c: ContactModel, el_len: np.ndarray, el_d: np.ndarray, el_npts:
                 n = hermite(xi[p], length)
                 rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
                 vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
-                f0 = _inertial_force(c, f, half_d, rot, rot1, ship, rx, ry, rz, vx, vy, vz)
                 base_state = (rx, ry, rz, vx, vy, vz)
-                for k in range(6):
+                # k = -1: the force at the point itself, then one perturbed state per column (a
+                # single call site of the inlined _inertial_force: each site is typed on its own)
+                for k in range(-1, 6):
                     for j in range(6):
                         state[j] = base_state[j]
-                    h = 1e-8 * max(1.0, abs(state[k]))
-                    state[k] += h
+                    h = 0.0
+                    if k >= 0:
+                        h = 1e-8 * max(1.0, abs(state[k]))
+                        state[k] += h
                     fk = _inertial_force(c, f, half_d, rot, rot1, ship, state[0], state[1], state[2],
                                          state[3], state[4], state[5])
+                    if k < 0:
+                        for d in range(4):
+                            f0[d] = fk[d]
+                        continue
                     for d in range(3):
                         jac[d, k] = (fk[d] - f0[d]) / h
                     if k < 3:

@@ -57,7 +57,10 @@ class CableHydro(NamedTuple):
     calls: np.ndarray      #: (1,) int64 counter of point evaluations (to verify skipping)
 
 
-@njit(cache=True, inline="always")
+# Scalar arguments only: a plain kernel, compiled once with the loading functions and
+# C_D(Re) inlined; its two calls per point cost little next to its work. IR-inlined
+# (inline="always") at its call sites, all of it would be expanded and typed again at each.
+@njit(cache=True)
 def drag(rho: float, mu: float, kind: int, d: float, cd_fixed: float, vx: float, vy: float, vz: float,
          ux: float, uy: float, uz: float) -> tuple:
     """Drag per unit length W(58) [N/m] for relative flow V [m/s] on a cable along unit u."""
@@ -221,17 +224,22 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
         px, py, pz = interpolate(q, base, n[4], n[5], n[6], n[7])
         vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
         state = (vx, vy, vz, px, py, pz, rz)
-        f0 = point_load(w, kind, d, area, cd, gamp, cm, t, rz, px, py, pz, vx, vy, vz, 0.0, 0.0, 0.0)
-        fpt[p, 0], fpt[p, 1], fpt[p, 2] = f0
-        for k in range(7 if depth_varies else 6):
+        # k = -1: the load at the point itself, then one perturbed state per column (a single
+        # call site of the inlined point_load: each site is typed and compiled on its own)
+        for k in range(-1, 7 if depth_varies else 6):
             for j in range(7):
                 pert[j] = state[j]
-            h = 1e-7 * max(1.0, abs(state[k]))
-            pert[k] += h
+            h = 0.0
+            if k >= 0:
+                h = 1e-7 * max(1.0, abs(state[k]))
+                pert[k] += h
             f = point_load(w, kind, d, area, cd, gamp, cm, t, pert[6], pert[3], pert[4], pert[5],
                            pert[0], pert[1], pert[2], 0.0, 0.0, 0.0)
-            for c in range(3):
-                jac[c, k] = (f[c] - f0[c]) / h
+            if k < 0:
+                fpt[p, 0], fpt[p, 1], fpt[p, 2] = f
+            else:
+                for c in range(3):
+                    jac[c, k] = (f[c] - fpt[p, c]) / h
         lp = max(math.sqrt(px * px + py * py + pz * pz), _TINY)
         u = (px / lp, py / lp, pz / lp)
         for i in range(4):

@@ -31,6 +31,11 @@ LOADINGS = {"bare": BARE, "faired": FAIRED, "sun2011_bare": SUN_BARE, "sun2011_f
 #: Smallest Reynolds number at which C_D(Re) is evaluated.
 RE_MIN = 1e-3
 
+# All IR-inlined (inline="always") into their one caller, the plain kernel
+# towcable_fmu.hydro.cable.drag, which is compiled once: calls to them from the point
+# loops would cost run time (a call spills every floating-point value the caller holds).
+# The branch helpers called as kernels would compile a specialisation per literal branch.
+
 
 @njit(cache=True, inline="always")
 def loading_functions(kind: int, cos_eta: float, sin_eta: float) -> tuple[float, float]:

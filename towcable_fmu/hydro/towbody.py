@@ -65,7 +65,9 @@ def body_force(w: WaterModel, b: BodyHydro, r: np.ndarray, rv: np.ndarray, ra: n
     return True
 
 
-@njit(cache=True)
+# IR-inlined into its only caller (ancf.system): a kernel of its own would be one more library for the
+# caller to link and optimise again, with all the code beneath it.
+@njit(cache=True, inline="always")
 def add_residual(w: WaterModel, b: BodyHydro, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: float,
                  out: np.ndarray) -> None:
     """Subtract the body's hydrodynamic force from the residual."""
@@ -76,7 +78,7 @@ def add_residual(w: WaterModel, b: BodyHydro, q: np.ndarray, v: np.ndarray, a: n
             out[i0 + k] -= f[k]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # (as add_residual)
 def add_jacobian(w: WaterModel, b: BodyHydro, q: np.ndarray, v: np.ndarray, t: float, ca: float, cv: float,
                  block: np.ndarray) -> bool:
     """The body's part of ``ca M + cv C`` (3x3, added to ``block``); False above the surface."""

@@ -230,7 +230,10 @@ def evaluate_drive(drive_t: np.ndarray, drive_x: np.ndarray, t: float, ship: np.
     return sp, sp_rate
 
 
-@njit(cache=True)
+# The step's helpers are IR-inlined (inline="always") into their only caller: a kernel of
+# its own would be a library that every caller links and optimises once more, with the
+# whole residual and Jacobian code beneath it.
+@njit(cache=True, inline="always")
 def _factorize(model, opt, st, ws, t, h, am, af, gamma, beta):
     """Evaluate and factorise the iteration matrix at the current q, v; record where."""
     scale = (1.0 - af) / (1.0 - am)
@@ -252,12 +255,12 @@ def _factorize(model, opt, st, ws, t, h, am, af, gamma, beta):
     return True
 
 
-@njit(cache=True)
 def refactorize_from_state(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Workspace) -> None:
     """Rebuild the factorised Jacobian recorded in a restored state (bit-identical).
 
     The factorisation is not part of the saved state; the point where it was evaluated
-    is, so a restored run continues exactly as the original one.
+    is, so a restored run continues exactly as the original one. (Python calling the
+    kernels: as a kernel of its own it would link and optimise their code once more.)
     """
     if st.jac[JAC_VALID] == 0.0:
         return
@@ -272,7 +275,6 @@ def refactorize_from_state(model: CableModel, opt: SolverOptions, st: Integrator
         st.jac[JAC_VALID] = 0.0
 
 
-@njit(cache=True)
 def initial_acceleration(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Workspace, t: float,
                          drive_t: np.ndarray, drive_x: np.ndarray) -> bool:
     """Set prescribed kinematics at t and solve ``M a = -F`` for consistent accelerations.
@@ -281,7 +283,9 @@ def initial_acceleration(model: CableModel, opt: SolverOptions, st: IntegratorSt
     ``k1 (phi_sp - phi) + k2 (phi_sp_rate - phi_rate)`` with the drive's set-point: a drum
     started off its set-point, or at rest under a moving one, accelerates from the first
     instant, and the cable end on it with it (generalised-alpha needs consistent initial
-    accelerations for its second order). Also invalidates the Jacobian.
+    accelerations for its second order). Also invalidates the Jacobian. Python calling
+    the kernels, once per start: as a kernel of its own it would link and optimise the
+    residual and Jacobian code once more.
 
     Returns
     -------
@@ -292,28 +296,25 @@ def initial_acceleration(model: CableModel, opt: SolverOptions, st: IntegratorSt
     st.phi[2] = opt.winch_kp * (sp - st.phi[0]) + opt.winch_kd * (sp_rate - st.phi[1])
     apply_prescribed(model.att_index, model.att_kind, model.att_vec, model.att_radius, ws.ship, st.phi,
                      st.q, st.v, st.a)
-    for i in range(model.free_dofs.shape[0]):
-        st.a[model.free_dofs[i]] = 0.0
+    st.a[model.free_dofs] = 0.0
     residual(model, st.q, st.v, st.a, t, ws.ship, ws.r)
     n = model.free_dofs.shape[0]
-    for i in range(n):
-        ws.dx[i] = -ws.r[model.free_dofs[i]]
-        if not math.isfinite(ws.dx[i]):
-            return False
+    ws.dx[:] = -ws.r[model.free_dofs]
+    if not np.all(np.isfinite(ws.dx)):
+        return False
     iteration_matrix(model, st.q, st.v, t, ws.ship, 1.0, 0.0, 0.0, ws.ab)
     st.jac[JAC_VALID] = 0.0
     if band_lu(ws.ab, n, model.kl, model.ku, ws.ipiv) != 0:
         return False
     band_solve(ws.ab, n, model.kl, model.ku, ws.ipiv, ws.dx)
-    for i in range(n):
-        st.a[model.free_dofs[i]] = ws.dx[i]
+    st.a[model.free_dofs] = ws.dx
     st.abar[:] = st.a
     st.phi[3] = st.phi[2]
     st.clock[0] = t
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _winch_step(opt, st, h, sp, sp_rate, am, af, gamma, beta):
     """Advance the winch PD law W(136) one step with the same scheme (linear: exact)."""
     phi, dphi, ddphi, bar = st.phi[0], st.phi[1], st.phi[2], st.phi[3]
@@ -330,7 +331,7 @@ def _winch_step(opt, st, h, sp, sp_rate, am, af, gamma, beta):
     st.phi[3] = bar_new + scale * delta
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
     """One step attempt of size h. Returns 0 accepted, 1 Newton failure, 2 error-test failure."""
     t1 = st.clock[0] + h
@@ -431,7 +432,7 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _restore(st, ws, phi0):
     st.q[:] = ws.q0
     st.v[:] = ws.v0
@@ -440,7 +441,9 @@ def _restore(st, ws, phi0):
     st.phi[:] = phi0
 
 
-@njit(cache=True)
+# IR-inlined into towcable_fmu.output_kernel.advance_recording, the one compiled call
+# Simulation steps with (a kernel of its own would link and optimise everything again).
+@njit(cache=True, inline="always")
 def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Workspace, t_end: float,
             drive_t: np.ndarray, drive_x: np.ndarray) -> int:
     """Integrate from the state's time to ``t_end`` (landing on it exactly).
@@ -478,13 +481,14 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
         ws.a0[:] = st.a
         ws.abar0[:] = st.abar
         phi0[:] = st.phi
-        status = _try_step(model, opt, st, ws, h_try, drive_t, drive_x, am, af, gamma, beta)
-        if status == 1 and st.jac[JAC_AGE] > 0.0:
+        for attempt in range(2):  # (one call site of the inlined _try_step)
+            status = _try_step(model, opt, st, ws, h_try, drive_t, drive_x, am, af, gamma, beta)
+            if attempt == 1 or not (status == 1 and st.jac[JAC_AGE] > 0.0):
+                break
             # stale Jacobian: retry the same step with a fresh one
             _restore(st, ws, phi0)
             st.jac[JAC_VALID] = 0.0
             st.jac[JAC_ETA] = 1.0
-            status = _try_step(model, opt, st, ws, h_try, drive_t, drive_x, am, af, gamma, beta)
         if status == 0:
             st.stats[STAT_STEPS] += 1
             st.clock[3] += 1.0
