@@ -94,7 +94,7 @@ def test_the_fmu_carries_its_code_requirements_and_no_record_of_the_build_python
         script = z.read(f"resources/{entry}.py").decode()
         requirements = z.read("resources/requirements.txt").decode()
     package = build.carried_package(fmu_paths[name])
-    assert f'activate("{package}")' in script
+    assert f'activate("{package}", ' in script
     module = contract.fmu(name).slave.split(":")[0].replace(".", "/")
     assert f"resources/{package}/{module}.py" in names
     assert f"resources/{package}_activate.py" in names
@@ -280,6 +280,9 @@ def test_an_fmu_from_moved_sources_mentions_none_of_them(foreign):
 
 
 def test_an_fmu_runs_the_code_it_carries_beside_another_towcable(fmu_paths, foreign):
+    """The foreign ShipMotion's sources differ from this Python's towcable: it runs its
+    own copy (from the machine cache), whose ship rises 1 m higher, while ours runs the
+    installed code (the same files: see the next test); neither disturbs the other."""
     import ship_motion.fmu
 
     installed = ship_motion.fmu.__file__
@@ -289,10 +292,24 @@ def test_an_fmu_runs_the_code_it_carries_beside_another_towcable(fmu_paths, fore
     assert np.any(ours["ship.z"] != 0.0)
     np.testing.assert_allclose(theirs["ship.z"] - 1.0, ours["ship.z"], rtol=0, atol=1e-14)
     assert sys.modules["ship_motion.fmu"].__file__ == installed  # this process's towcable is untouched
-    carried = [m for name, m in sys.modules.items() if name.endswith(".ship_motion.fmu") and name.startswith("towcable_")]
-    assert len(carried) == 2  # two bundles side by side, each from the machine cache
-    for module in carried:
-        assert Path(module.__file__).is_relative_to(machine_cache.cache_root() / "code")
+    package = build.carried_package(foreign["fmu"])
+    assert package != build.carried_package(fmu_paths["ShipMotion"])
+    module = sys.modules[f"{package}.ship_motion.fmu"]
+    assert Path(module.__file__).is_relative_to(machine_cache.cache_root() / "code" / package)
+
+
+def test_an_fmu_of_the_installed_sources_runs_the_installed_code(fmu_paths):
+    """Built from the files this Python imports, the FMUs import those modules (one copy
+    of the code, and the kernels the command line compiled), not their carried copy."""
+    import ship_motion.fmu
+
+    package = build.carried_package(fmu_paths["ShipMotion"])
+    assert machine_cache.installed_code() == package
+    exp = xc.Experiment(0.0, 0.5, 0.01, 1e-4, ("ship.z",))
+    out = xc.simulate(fmu_paths["ShipMotion"], exp, None, exp.outputs)
+    assert np.any(out["ship.z"] != 0.0)
+    assert not any(name == package or name.startswith(package + ".") for name in sys.modules)
+    assert sys.modules["ship_motion.fmu"] is ship_motion.fmu
 
 
 @pytest.fixture(scope="module")
@@ -371,7 +388,7 @@ def _activate(resources: Path, name: str) -> Path:
     spec = importlib.util.spec_from_file_location(f"{name}_activate", resources / f"{name}_activate.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    return module.activate(name)
+    return module.import_bundle(name)
 
 
 def test_activation_installs_the_code_once_and_replaces_an_altered_copy(tmp_path, monkeypatch):

@@ -390,7 +390,7 @@ def run_cosim(config: CosimConfig, progress: Callable[[float, float], None] | No
         Invalid configuration.
     """
     from .errors import SceneError
-    from .fmi.build import carried_code_installed, ensure_fmus
+    from .fmi.build import ensure_fmus
     from .scene import load_scene
 
     for name, value in (("duration", config.duration), ("step", config.step)):
@@ -426,9 +426,6 @@ def run_cosim(config: CosimConfig, progress: Callable[[float, float], None] | No
     params["HeaveCompensation"].update(config.controller_parameters)
 
     inst: dict[str, FmuInstance] = {}
-    if echo and not all(carried_code_installed(path) for path in paths.values()):
-        print("compiling the numerical kernels of the FMUs (first run of this code on this machine)...",
-              file=sys.stderr, flush=True)
     t_init = time.perf_counter()
     try:
         for name in order:

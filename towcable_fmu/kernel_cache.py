@@ -33,14 +33,12 @@ from typing import Callable
 
 from numba.core import caching, event
 
-from .machine_cache import cache_root
+from .machine_cache import PACKAGES, cache_root
 
 #: numba's cache implementation base, whose ``_locator_classes`` are tried in order
 #: (``_CacheImpl`` before numba 0.64).
 _CACHE_IMPL = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl")
 
-#: The packages whose kernels this locator serves (the same three an FMU carries).
-PACKAGES = ("towcable_fmu", "ship_motion", "controllers")
 #: Folder holding the three packages of this copy of the code.
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -147,7 +145,7 @@ WATCH = CompileWatch()
 def print_compile_notice() -> None:
     """The command line's notice, printed to stderr when the first kernel compiles."""
     print("compiling the numerical kernels (first run only; cached in "
-          f"{kernel_folder()})...", file=sys.stderr, flush=True)
+          f"{cache_root() / 'kernels'})...", file=sys.stderr, flush=True)
 
 
 @functools.cache

@@ -12,10 +12,16 @@ The cache folder (:func:`cache_root`) is ``$TOWCABLE_CACHE_DIR``, else
   bundle digest, so the code has one place per machine whatever folder a host unzips
   the FMU into;
 * ``kernels/towcable-<digest>/``: the compiled kernels (:mod:`towcable_fmu.kernel_cache`).
+
+An FMU built from the very sources this Python has installed (same files, byte for
+byte: :func:`installed_code`) runs the installed modules instead of its copy: the same
+code, imported once, and the same compiled kernels as the command line and any other
+FMU of that version (``towcable run`` and ``towcable cosim`` compile once between them).
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import importlib.util
 import os
@@ -28,6 +34,13 @@ from pathlib import Path
 
 #: File of a bundle listing ``<sha256>  <relative path>`` for each of its files.
 MANIFEST = "MANIFEST.sha256"
+#: Our packages (an FMU carries all three, see towcable_fmu/fmi/bundle.py).
+PACKAGES = ("towcable_fmu", "ship_motion", "controllers")
+#: Files of the packages that are not code: caches and build inputs of the loader.
+_SKIP_DIRS = {"__pycache__", "csrc"}
+_SKIP_SUFFIXES = {".pyc", ".pyo", ".nbi", ".nbc", ".so", ".c"}
+#: Bump when the bundle's layout or its rewriting changes (the digest then changes too).
+BUNDLE_FORMAT = "1"
 
 
 def cache_root() -> Path:
@@ -38,6 +51,48 @@ def cache_root() -> Path:
         return Path(os.environ["NUMBA_CACHE_DIR"]) / "towcable"
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     return Path(base) / "towcable"
+
+
+def package_files(folders: dict[str, Path]) -> dict[str, bytes]:
+    """The files of our packages (package name -> its folder): path relative to the
+    package's parent (POSIX, ``towcable_fmu/...``) -> content."""
+    files: dict[str, bytes] = {}
+    for package in PACKAGES:
+        root = Path(folders[package]).parent
+        for path in sorted(Path(folders[package]).rglob("*")):
+            rel = path.relative_to(root)
+            if path.is_file() and not _SKIP_DIRS.intersection(rel.parts) and path.suffix not in _SKIP_SUFFIXES:
+                files[rel.as_posix()] = path.read_bytes()
+    return files
+
+
+def code_digest(files: dict[str, bytes]) -> str:
+    """Hex SHA-256 of the packages' file names and contents (and the bundle format): the
+    bundle an FMU carries is named ``towcable_`` + its first 16 digits."""
+    h = hashlib.sha256(BUNDLE_FORMAT.encode())
+    for name in sorted(files):
+        h.update(name.encode() + b"\0" + hashlib.sha256(files[name]).digest())
+    return h.hexdigest()
+
+
+@functools.cache
+def installed_code() -> str | None:
+    """The bundle name (``towcable_<16 hex digits>``) of the three packages as this Python
+    would import them (found on ``sys.path`` without importing them), or None if one is
+    missing."""
+    folders = {}
+    for package in PACKAGES:
+        try:
+            spec = importlib.util.find_spec(package)
+        except (ImportError, ValueError):
+            return None
+        if spec is None or not spec.submodule_search_locations:
+            return None
+        folders[package] = Path(list(spec.submodule_search_locations)[0])
+    try:
+        return "towcable_" + code_digest(package_files(folders))[:16]
+    except OSError:
+        return None
 
 
 def manifest_text(files: dict[str, bytes]) -> str:
@@ -87,17 +142,27 @@ def check_requirements(path: Path) -> None:
                           "standalone FMU (build_fmu.py --standalone), which carries its own Python")
 
 
-def activate(bundle: str) -> Path:
-    """Import the package ``bundle`` that this FMU carries (``sys.modules[bundle]``) from
-    the machine cache; return its folder. Idempotent.
+def activate(bundle: str, module: str, name: str):
+    """The object ``name`` of the module ``module`` (``towcable_fmu.fmu``) of the code
+    this FMU carries, the package ``bundle`` beside this file (``resources/<bundle>/``).
 
-    The package is ``resources/<bundle>/`` beside this file; the packages of
-    ``resources/requirements.txt`` must be importable (:func:`check_requirements`). It is
-    installed into ``<cache root>/code/<bundle>/`` unless an identical copy is there
-    (checked against the FMU's manifest) and imported from there by location. If the
-    cache cannot be written it is imported from the FMU's own folder (with a warning: its
-    kernels are then compiled in every new folder).
+    If this Python has the same code installed (:func:`installed_code` equals
+    ``bundle``), that is imported. Else the FMU's copy is: the packages of
+    ``resources/requirements.txt`` must be importable (:func:`check_requirements`); the
+    copy is installed into ``<cache root>/code/<bundle>/`` unless an identical copy is
+    there (checked against the FMU's manifest) and imported from there by location (if
+    the cache cannot be written, from the FMU's own folder, with a warning: its kernels
+    are then compiled in every new folder).
     """
+    if bundle not in sys.modules and installed_code() == bundle:
+        return getattr(importlib.import_module(module), name)
+    import_bundle(bundle)
+    return getattr(importlib.import_module(f"{bundle}.{module}"), name)
+
+
+def import_bundle(bundle: str) -> Path:
+    """Import the package ``bundle`` that this FMU carries (``sys.modules[bundle]``) from
+    the machine cache (see :func:`activate`); return its folder. Idempotent."""
     source = Path(__file__).resolve().parent / bundle
     if bundle in sys.modules:
         return Path(sys.modules[bundle].__file__).parent

@@ -176,8 +176,7 @@ def entry_script(spec: contract.FmuSpec, package: str) -> str:
     return (f'"""{spec.name} FMU entry point, written by build_fmu.py: the slave {module}.{cls} of the\n'
             f'code this FMU carries (package {package}, see towcable_fmu/fmi/bundle.py)."""\n\n'
             f"from {package}_activate import activate\n\n"
-            f'activate("{package}")\n'
-            f"from {package}.{module} import {cls}  # noqa: E402,F401\n\n"
+            f'{cls} = activate("{package}", "{module}", "{cls}")\n\n'
             'globals().setdefault("_pythonfmu_dict_refs", []).append(globals())  # see towcable_fmu/fmi/build.py\n')
 
 
@@ -266,12 +265,7 @@ def carried_package(fmu: str | Path) -> str:
     with zipfile.ZipFile(fmu) as z:
         entry = z.read("resources/slavemodule.txt").decode()
         script = z.read(f"resources/{entry}.py").decode()
-    return re.search(r'activate\("(towcable_[0-9a-f]+)"\)', script).group(1)
-
-
-def carried_code_installed(fmu: str | Path) -> bool:
-    """Whether this machine has run the code an FMU carries (its kernels are then cached)."""
-    return (machine_cache.cache_root() / "code" / carried_package(fmu)).is_dir()
+    return re.search(r'activate\("(towcable_[0-9a-f]+)"', script).group(1)
 
 
 # ------------------------------------------------------------------ building

@@ -11,30 +11,23 @@ sources never meet. Every absolute import of the three packages is rewritten to 
 from that package (as vendoring tools do); relative imports need nothing. Line numbers
 are kept (tracebacks, numba's cache names).
 
-At run time the FMU's entry script calls :func:`towcable_fmu.fmi.runtime.activate`
-(copied with the rest), which installs the package from the unzipped FMU into the
-machine's cache folder (once per digest) and imports it from there, so that the
-code - and the compiled kernels next to it - have one place per machine whatever
-folder the host unzips the FMU into.
+At run time the FMU's entry script calls :func:`towcable_fmu.machine_cache.activate`
+(copied with the rest as ``resources/<name>_activate.py``). If the Python running the FMU
+has these very sources installed, it imports those (one copy of the code and of its
+kernels for the command line and the FMUs). Else it installs the package from the
+unzipped FMU into the machine's cache folder (once per digest) and imports it from
+there, so that the code - and the compiled kernels next to it - have one place per
+machine whatever folder the host unzips the FMU into.
 """
 
 from __future__ import annotations
 
 import ast
-import hashlib
 import re
 from pathlib import Path
 
-from ..machine_cache import MANIFEST, manifest_text
-
-#: The packages an FMU carries.
-PACKAGES = ("towcable_fmu", "ship_motion", "controllers")
-#: Files of the packages that are not copied: caches and build inputs of the loader.
-_SKIP_DIRS = {"__pycache__", "csrc"}
-_SKIP_SUFFIXES = {".pyc", ".pyo", ".nbi", ".nbc", ".so", ".c"}
-#: Bump when the layout or the rewriting changes (the digest then changes too).
-FORMAT = "1"
-
+from .. import machine_cache
+from ..machine_cache import MANIFEST, PACKAGES, manifest_text
 
 class BundleError(RuntimeError):
     """A source file uses an import form the bundle cannot rewrite."""
@@ -46,24 +39,15 @@ def source_root() -> Path:
 
 
 def package_files(root: Path | None = None) -> dict[str, bytes]:
-    """The files of the three packages: path relative to ``root`` (POSIX) -> content."""
+    """The files of the three packages under ``root`` (default :func:`source_root`): path
+    relative to ``root`` (POSIX) -> content."""
     root = source_root() if root is None else Path(root)
-    files: dict[str, bytes] = {}
-    for package in PACKAGES:
-        for path in sorted((root / package).rglob("*")):
-            rel = path.relative_to(root)
-            if (path.is_file() and not _SKIP_DIRS.intersection(rel.parts)
-                    and path.suffix not in _SKIP_SUFFIXES):
-                files[rel.as_posix()] = path.read_bytes()
-    return files
+    return machine_cache.package_files({package: root / package for package in PACKAGES})
 
 
 def digest(files: dict[str, bytes]) -> str:
     """Hex SHA-256 of the files' names and contents (and the bundle format)."""
-    h = hashlib.sha256(FORMAT.encode())
-    for name in sorted(files):
-        h.update(name.encode() + b"\0" + hashlib.sha256(files[name]).digest())
-    return h.hexdigest()
+    return machine_cache.code_digest(files)
 
 
 def bundle_name(files: dict[str, bytes]) -> str:
