@@ -81,6 +81,23 @@ class Turn:
         return self.start + 2.0 * self.ramp + self.hold
 
 
+def quintic_hermite(x: np.ndarray, p: np.ndarray, v: np.ndarray, a: np.ndarray) -> BPoly:
+    """The piecewise quintic through values ``p``, first derivatives ``v`` and second
+    derivatives ``a`` (shape (n, d)) at the knots ``x`` (n, increasing), in Bernstein form.
+
+    The same polynomial as ``BPoly.from_derivatives`` with three derivatives a side, built
+    in one array operation (that one loops over the intervals in Python: minutes for the
+    hundreds of thousands of knots of a long turn). On [x0, x1] with h = x1 - x0 the six
+    Bernstein coefficients are p0, p0 + h v0 / 5, p0 + 2 h v0 / 5 + h^2 a0 / 20 and,
+    mirrored, p1 - 2 h v1 / 5 + h^2 a1 / 20, p1 - h v1 / 5, p1.
+    """
+    h = np.diff(x)[:, None]
+    p0, v0, a0, p1, v1, a1 = p[:-1], v[:-1], a[:-1], p[1:], v[1:], a[1:]
+    c = np.stack([p0, p0 + h * v0 / 5.0, p0 + 2.0 * h * v0 / 5.0 + h * h * a0 / 20.0,
+                  p1 - 2.0 * h * v1 / 5.0 + h * h * a1 / 20.0, p1 - h * v1 / 5.0, p1])
+    return BPoly(c, x)
+
+
 class Manoeuvre(MotionSource):
     """Straight run with an optional speed ramp and an optional turn (module docstring).
 
@@ -179,7 +196,7 @@ class Manoeuvre(MotionSource):
                                  * _GAUSS_WEIGHTS[None, :, None]).sum(axis=1)
         position = np.vstack([np.zeros(2), np.cumsum(steps, axis=0)]) + self.position
         velocity, acceleration = self._velocity(knots)
-        return BPoly.from_derivatives(knots, np.stack([position, velocity, acceleration], axis=1))
+        return quintic_hermite(knots, position, velocity, acceleration)
 
     def evaluate_many(self, t: ArrayLike) -> np.ndarray:
         times = as_times(t)

@@ -152,6 +152,7 @@ WINCH = {"position": [1.0, 0.0, 0.5], "radius": 0.3, "phi_nom": 0.5, "kp": 200.0
          "contact": {"stiffness": 1e6, "exponent": 1.5, "damping": 0.0}}
 
 
+@pytest.mark.slow  # three Radau integrations per case at rtol 1e-9, each rhs from Python: 2-6 min in all
 @pytest.mark.parametrize("top, extra", [
     ({"type": "pinned", "frame": "ship", "position": [1.0, 0.0, 0.5]}, {}),
     ({"type": "clamped", "frame": "ship", "position": [1.0, 0.0, 0.5], "slope": [0.6, 0.0, -0.8]}, {}),

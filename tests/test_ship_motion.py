@@ -526,3 +526,22 @@ def test_rao_table_must_cover_band(tmp_path):
         motion_from_config({"type": "irregular", "omega_max": 7.0, "rao": {"file": "rao.csv"}},
                            base_dir=tmp_path)
     assert err.value.key == "motion.rao.file"
+
+
+def test_quintic_hermite_is_scipys_bpoly_from_derivatives():
+    """The manoeuvre's track in one array operation is the polynomial scipy builds
+    interval by interval from the same values and two derivatives at each knot."""
+    from scipy.interpolate import BPoly
+
+    from ship_motion.manoeuvre import quintic_hermite
+
+    rng = np.random.default_rng(7)
+    x = np.cumsum(rng.uniform(0.1, 2.0, 40))
+    p, v, a = (rng.normal(size=(40, 2)) for _ in range(3))
+    ours = quintic_hermite(x, p, v, a)
+    scipys = BPoly.from_derivatives(x, np.stack([p, v, a], axis=1))
+    t = np.linspace(x[0], x[-1], 2001)
+    for nu in range(3):
+        np.testing.assert_allclose(ours(t, nu), scipys(t, nu), rtol=1e-12, atol=1e-11)
+    for k, values in enumerate((p, v, a)):
+        np.testing.assert_allclose(ours(x, k), values, rtol=1e-12, atol=1e-11)

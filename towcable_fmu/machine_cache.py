@@ -75,6 +75,12 @@ def code_digest(files: dict[str, bytes]) -> str:
     return h.hexdigest()
 
 
+def bundle_name(files: dict[str, bytes]) -> str:
+    """The package name an FMU's copy of ``files`` is imported as: ``towcable_`` + the
+    first 16 digits of :func:`code_digest`."""
+    return f"towcable_{code_digest(files)[:16]}"
+
+
 @functools.cache
 def installed_code() -> str | None:
     """The bundle name (``towcable_<16 hex digits>``) of the three packages as this Python
@@ -90,7 +96,7 @@ def installed_code() -> str | None:
             return None
         folders[package] = Path(list(spec.submodule_search_locations)[0])
     try:
-        return "towcable_" + code_digest(package_files(folders))[:16]
+        return bundle_name(package_files(folders))
     except OSError:
         return None
 

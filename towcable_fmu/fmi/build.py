@@ -71,7 +71,7 @@ def source_hash(standalone: bool = False) -> str:
     import pythonfmu
 
     h = hashlib.sha256(f"{pythonfmu.__version__} {sys.version} {standalone}".encode())
-    h.update(code_bundle.digest(code_bundle.package_files()).encode())
+    h.update(machine_cache.code_digest(code_bundle.package_files()).encode())
     h.update(native.LOADER_SOURCE.read_bytes())
     return h.hexdigest()
 

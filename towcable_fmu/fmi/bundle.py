@@ -27,7 +27,7 @@ import re
 from pathlib import Path
 
 from .. import machine_cache
-from ..machine_cache import MANIFEST, PACKAGES, manifest_text
+from ..machine_cache import MANIFEST, PACKAGES, bundle_name, manifest_text
 
 class BundleError(RuntimeError):
     """A source file uses an import form the bundle cannot rewrite."""
@@ -43,16 +43,6 @@ def package_files(root: Path | None = None) -> dict[str, bytes]:
     relative to ``root`` (POSIX) -> content."""
     root = source_root() if root is None else Path(root)
     return machine_cache.package_files({package: root / package for package in PACKAGES})
-
-
-def digest(files: dict[str, bytes]) -> str:
-    """Hex SHA-256 of the files' names and contents (and the bundle format)."""
-    return machine_cache.code_digest(files)
-
-
-def bundle_name(files: dict[str, bytes]) -> str:
-    """The package name the FMU's copy is imported as: ``towcable_`` + 16 hex digits."""
-    return f"towcable_{digest(files)[:16]}"
 
 
 _FROM = re.compile(r"from\s+")
