@@ -1,0 +1,74 @@
+"""The machine's kernel cache (towcable_fmu.kernel_cache): keyed by the kernels' sources,
+compiled at initialisation and never in the middle of a run, found again by a new process."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from towcable_fmu import kernel_cache
+from towcable_fmu.machine_cache import PACKAGES
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_digest_follows_the_kernel_sources_and_nothing_else(tmp_path):
+    for package in PACKAGES:
+        shutil.copytree(ROOT / package, tmp_path / package, ignore=shutil.ignore_patterns("__pycache__"))
+    kernel_cache.kernel_digest.cache_clear()
+    try:
+        before = kernel_cache.kernel_digest(tmp_path)
+        assert before == kernel_cache.kernel_digest(ROOT)  # the same sources in another folder
+        plain = tmp_path / "towcable_fmu" / "cli.py"  # no kernel in it
+        assert b"@njit" not in plain.read_bytes()
+        plain.write_text(plain.read_text(encoding="utf-8") + "\n# edited\n", encoding="utf-8")
+        kernel_cache.kernel_digest.cache_clear()
+        assert kernel_cache.kernel_digest(tmp_path) == before
+        kernel = tmp_path / "towcable_fmu" / "hydro" / "loading.py"
+        assert b"@njit" in kernel.read_bytes()
+        kernel.write_text(kernel.read_text(encoding="utf-8") + "\n# edited\n", encoding="utf-8")
+        kernel_cache.kernel_digest.cache_clear()
+        assert kernel_cache.kernel_digest(tmp_path) != before
+    finally:
+        kernel_cache.kernel_digest.cache_clear()
+
+
+#: Initialise full_scale and run it for 2 s in a new process; prints the compile seconds
+#: of each phase (kernel_cache.WATCH) as JSON.
+_PHASES = textwrap.dedent("""
+    import json
+    from towcable_fmu import kernel_cache
+    from towcable_fmu.models import simulation_for
+    from towcable_fmu.scene import load_scene
+
+    sim = simulation_for(load_scene("full_scale"))
+    sim.initialize()
+    initialise = kernel_cache.WATCH.seconds
+    sim.run(2.0)
+    print(json.dumps({"initialise": initialise, "run": kernel_cache.WATCH.seconds - initialise}))
+    """)
+
+
+def _phases(cache: Path) -> dict[str, float]:
+    env = {**os.environ, "TOWCABLE_CACHE_DIR": str(cache)}
+    proc = subprocess.run([sys.executable, "-c", _PHASES], capture_output=True, text=True, env=env, timeout=1800,
+                          cwd=ROOT)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+@pytest.mark.slow  # compiles every kernel of full_scale once (1.5-5 min)
+def test_kernels_compile_at_initialisation_only_and_once_per_machine(tmp_path):
+    first = _phases(tmp_path / "cache")
+    assert first["initialise"] > 1.0  # an empty cache: the kernels were compiled ...
+    assert first["run"] == 0.0  # ... all of them before the run
+    again = _phases(tmp_path / "cache")
+    assert again == {"initialise": 0.0, "run": 0.0}  # a new process finds them all
+    assert any((tmp_path / "cache" / "kernels").rglob("*.nbi"))
