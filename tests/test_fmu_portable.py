@@ -382,7 +382,7 @@ def _resources(tmp_path: Path, name: str) -> Path:
     return resources
 
 
-def _activate(resources: Path, name: str) -> Path:
+def _import_bundle(resources: Path, name: str) -> Path:
     import importlib.util
 
     spec = importlib.util.spec_from_file_location(f"{name}_activate", resources / f"{name}_activate.py")
@@ -396,14 +396,14 @@ def test_activation_installs_the_code_once_and_replaces_an_altered_copy(tmp_path
     resources = _resources(tmp_path, name)
     monkeypatch.setenv("TOWCABLE_CACHE_DIR", str(tmp_path / "cache"))
     target = tmp_path / "cache" / "code" / name
-    assert _activate(resources, name) == target and (target / "__init__.py").read_bytes() == b"VALUE = 1\n"
+    assert _import_bundle(resources, name) == target and (target / "__init__.py").read_bytes() == b"VALUE = 1\n"
     assert sys.modules[name].__file__ == str(target / "__init__.py") and sys.modules[name].VALUE == 1
     del sys.modules[name]
     stamp = (target / "__init__.py").stat().st_mtime_ns
-    assert _activate(resources, name) == target and (target / "__init__.py").stat().st_mtime_ns == stamp
+    assert _import_bundle(resources, name) == target and (target / "__init__.py").stat().st_mtime_ns == stamp
     del sys.modules[name]
     (target / "__init__.py").write_bytes(b"VALUE = 2\n")  # somebody edits the installed copy
-    assert _activate(resources, name) == target and sys.modules[name].VALUE == 1
+    assert _import_bundle(resources, name) == target and sys.modules[name].VALUE == 1
     del sys.modules[name]
 
 
@@ -414,7 +414,7 @@ def test_activation_without_a_writable_cache_runs_the_code_in_place(tmp_path, mo
     blocked.write_text("not a folder")
     monkeypatch.setenv("TOWCABLE_CACHE_DIR", str(blocked))
     with pytest.warns(UserWarning, match="cannot install the FMU's code"):
-        assert _activate(resources, name) == resources / name
+        assert _import_bundle(resources, name) == resources / name
     assert sys.modules.pop(name).__file__ == str(resources / name / "__init__.py")
 
 
@@ -424,4 +424,4 @@ def test_activation_names_missing_requirements(tmp_path, monkeypatch):
     (resources / "requirements.txt").write_text("# comment\nnumpy>=1.26\nno_such_package_xyz>=1\n")
     monkeypatch.setenv("TOWCABLE_CACHE_DIR", str(tmp_path / "cache"))
     with pytest.raises(ImportError, match="needs the Python packages no_such_package_xyz "):
-        _activate(resources, name)
+        _import_bundle(resources, name)

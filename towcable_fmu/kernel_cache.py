@@ -68,20 +68,19 @@ def kernel_folder(root: Path = ROOT) -> Path:
 class KernelCacheLocator(caching._CacheLocator):
     """numba cache locator for the kernels of our packages (see the module docstring)."""
 
-    def __init__(self, py_func, py_file: str) -> None:
+    def __init__(self, py_func, relative: Path) -> None:
         self._lineno = py_func.__code__.co_firstlineno
-        relative = Path(py_file).resolve().relative_to(ROOT)
         self._path = kernel_folder() / relative.parent
 
     @classmethod
     def from_function(cls, py_func, py_file: str):
         try:
-            Path(py_file).resolve().relative_to(ROOT)
+            relative = Path(py_file).resolve().relative_to(ROOT)
         except ValueError:
             return None
-        if Path(py_file).resolve().relative_to(ROOT).parts[0] not in PACKAGES:
+        if relative.parts[0] not in PACKAGES:
             return None
-        self = cls(py_func, py_file)
+        self = cls(py_func, relative)
         try:
             self.ensure_cache_path()
         except OSError as exc:

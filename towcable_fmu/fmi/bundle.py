@@ -29,6 +29,7 @@ from pathlib import Path
 from .. import machine_cache
 from ..machine_cache import MANIFEST, PACKAGES, bundle_name, manifest_text
 
+
 class BundleError(RuntimeError):
     """A source file uses an import form the bundle cannot rewrite."""
 
