@@ -44,6 +44,28 @@ def fmu_paths(tmp_path_factory):
 
 
 @pytest.fixture(scope="session")
+def fresh_venv(tmp_path_factory):
+    """Python of a new venv with fmpy and the FMUs' requirements file, and nothing of towcable;
+    numba and llvmlite at this Python's versions (those the precompiled kernels need)."""
+    import os
+    import subprocess
+    import sys
+    from importlib.metadata import version
+
+    from towcable_fmu.fmi.build import requirements_text
+
+    venv = tmp_path_factory.mktemp("fresh") / "venv"
+    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True, timeout=600)
+    python = venv / "bin" / "python"
+    (venv / "requirements.txt").write_text(requirements_text(), encoding="utf-8")
+    (venv / "constraints.txt").write_text("".join(f"{name}=={version(name)}\n" for name in ("numba", "llvmlite")))
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
+    subprocess.run([str(python), "-m", "pip", "install", "--quiet", "fmpy", "-r", str(venv / "requirements.txt"),
+                    "-c", str(venv / "constraints.txt")], check=True, env=env, timeout=1800)
+    return python
+
+
+@pytest.fixture(scope="session")
 def host(tmp_path_factory):
     """The C host of the FMU tests (tests/c_host/fmu_host.c), compiled with the system C compiler."""
     import subprocess

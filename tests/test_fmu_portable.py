@@ -312,19 +312,6 @@ def test_an_fmu_of_the_installed_sources_runs_the_installed_code(fmu_paths):
     assert sys.modules["ship_motion.fmu"] is ship_motion.fmu
 
 
-@pytest.fixture(scope="module")
-def fresh_venv(fmu_paths, tmp_path_factory):
-    """A new venv with fmpy and the FMU's requirements file, and nothing of towcable."""
-    venv = tmp_path_factory.mktemp("fresh") / "venv"
-    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True, timeout=600)
-    python = venv / "bin" / "python"
-    with zipfile.ZipFile(fmu_paths["TowCable"]) as z:
-        (venv / "requirements.txt").write_bytes(z.read("resources/requirements.txt"))
-    subprocess.run([str(python), "-m", "pip", "install", "--quiet", "fmpy", "-r", str(venv / "requirements.txt")],
-                   check=True, env=clean_env(), timeout=1800)
-    return python
-
-
 def test_fmpy_in_a_fresh_venv_runs_towcable_on_full_scale_as_the_master_does(fmu_paths, fresh_venv, tmp_path):
     from towcable_fmu.cosim import CosimConfig, run_cosim
 

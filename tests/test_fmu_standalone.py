@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from towcable_fmu import contract
+from towcable_fmu import contract, machine_cache
 from towcable_fmu.fmi import crosscheck as xc
 from towcable_fmu.fmi import native
 from towcable_fmu.fmi.runtime import glibc_needed
@@ -126,6 +126,37 @@ def test_standalone_towcable_runs_in_a_c_host_with_every_python_hidden(host, sta
     moved = xc.simulate(fmu_paths[name], exp, nudged, exp.outputs)
     sensitivity = {var: np.max(np.abs(moved[var] - ref[var])) for var in exp.outputs}
     assert_round_off(xc.read_csv(tmp_path / "out.csv"), ref, list(exp.outputs), sensitivity)
+
+
+@pytest.mark.slow
+@needs_namespaces
+def test_standalone_towcable_with_its_kernels_compiles_nothing_on_a_machine_without_python(host, fmu_paths,
+                                                                                         tmp_path):
+    """The FMU ``build_fmu.py --standalone`` writes, on a machine that never ran it (empty
+    cache) and has no Python: initialised without compiling a kernel."""
+    from towcable_fmu.fmi.build import build_fmus
+
+    fmu = build_fmus(tmp_path / "built", ["TowCable"], standalone=True, kernels=True)["TowCable"]
+    exp = xc.Experiment(0.0, 0.2, 0.01, 1e-4, ("tension.sheave", "towbody.z"))
+    ship = xc.simulate(fmu_paths["ShipMotion"], exp, None, tuple(contract.fmu("ShipMotion").names("output")[:18]))
+    inputs = {"time": ship["time"]} | {n: ship[n] for n in contract.fmu("TowCable").names("input") if n in ship}
+    inputs["winch.phi_sp"] = np.full_like(ship["time"], 3.8)
+    inputs["winch.phi_sp_rate"] = np.zeros_like(ship["time"])
+    csv = xc.write_csv(tmp_path / "in.csv", inputs)
+    fmu_dir = tmp_path / "TowCable"
+    with zipfile.ZipFile(fmu) as z:
+        z.extractall(fmu_dir)
+    plan = write_plan(tmp_path / "plan.txt", fmu_dir, "TowCable", exp, list(exp.outputs), csv, instances=1)
+    proc = without_python([str(host), str(fmu_dir), str(plan), str(tmp_path / "out.csv")], cwd=tmp_path,
+                          env={"TOWCABLE_CACHE_DIR": str(tmp_path / "new-machine")})
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert "initialised" in proc.stderr  # the FMU's messages reach the host
+    assert "compiled the numerical kernels" not in proc.stderr, proc.stderr[-3000:]
+    assert any((tmp_path / "new-machine" / "kernels").glob(f"*/{machine_cache.CARRIED_MARK}"))
+    ref = xc.simulate(fmu_paths["TowCable"], exp, inputs, exp.outputs)
+    out = xc.read_csv(tmp_path / "out.csv")
+    for name in exp.outputs:
+        assert np.allclose(out[name], ref[name], rtol=1e-6, atol=1e-6 * (1.0 + np.max(np.abs(ref[name])))), name
 
 
 def ecos_command(tmp_path: Path) -> tuple[list[str], dict[str, str]]:

@@ -42,6 +42,9 @@ def main(argv: list[str] | None = None) -> int:
                         "(TowedCableSystem.ssp) with the parameters of the default 'towcable cosim' case")
     parser.add_argument("--no-native", action="store_true", help="keep pythonfmu's binary (the FMUs then load "
                         "only in Python hosts and cannot return fmi2Error) instead of compiling the loader layer")
+    parser.add_argument("--no-kernels", action="store_true", help="leave out the precompiled kernels (TowCable "
+                        "then compiles them at its first use on each machine, a minute or more; the first build of "
+                        "a version of the code with them compiles them, minutes, and later builds reuse them)")
     parser.add_argument("--crosscheck", metavar="DIR", help="also write the FMI Cross-Check artefacts (FMU, "
                         "_ref.csv, _in.csv, _ref.opt) under DIR/fmus/2.0/cs/linux64/towcable/<version>/")
     parser.add_argument("names", nargs="*", help="FMUs to build (default: all)")
@@ -52,7 +55,7 @@ def main(argv: list[str] | None = None) -> int:
     if (args.ssp or args.crosscheck) and not everything:
         parser.error("--ssp and --crosscheck need all three FMUs (give no NAME)")
     paths = build_fmus(args.output, args.names or None, native_loader=not args.no_native,
-                       standalone=args.standalone)
+                       standalone=args.standalone, kernels=not args.no_kernels)
     for path in paths.values():
         print(f"built {path} ({path.stat().st_size / 1e6:.1f} MB)")
     if args.standalone:

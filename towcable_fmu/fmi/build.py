@@ -50,6 +50,9 @@ STAMP = "build_stamp.json"
 #: Third-party packages the FMUs import at run time, with the lowest versions they need
 #: (those of pyproject.toml).
 REQUIREMENTS = {"numpy": "1.26", "scipy": "1.11", "numba": "0.59"}
+#: The FMU that carries precompiled kernels (the others compile at most a small kernel
+#: of the heave compensation's rigorous algorithms, which that FMU installs for them).
+KERNEL_FMU = "TowCable"
 #: The GUID written before the real one is known.
 _GUID_PLACEHOLDER = "00000000-0000-0000-0000-000000000000"
 #: Date of every archive entry (reproducible archives).
@@ -176,7 +179,7 @@ def entry_script(spec: contract.FmuSpec, package: str) -> str:
     return (f'"""{spec.name} FMU entry point, written by build_fmu.py: the slave {module}.{cls} of the\n'
             f'code this FMU carries (package {package}, see towcable_fmu/fmi/bundle.py)."""\n\n'
             f"from {package}_activate import activate\n\n"
-            f'{cls} = activate("{package}", "{module}", "{cls}")\n\n'
+            f'{cls} = activate("{package}", "{module}", "{cls}", __file__)\n\n'
             'globals().setdefault("_pythonfmu_dict_refs", []).append(globals())  # see towcable_fmu/fmi/build.py\n')
 
 
@@ -211,7 +214,7 @@ def _pythonfmu_binaries(model_identifier: str, standalone: bool) -> dict[str, by
 
 
 def fmu_files(spec: contract.FmuSpec, package: str, carried: dict[str, bytes], loader: Path | None,
-              runtime: dict[str, bytes] | None) -> dict[str, bytes]:
+              runtime: dict[str, bytes] | None, kernels: dict[str, bytes] | None = None) -> dict[str, bytes]:
     """Every entry of one FMU's archive (name -> content), GUID set.
 
     Parameters
@@ -225,6 +228,9 @@ def fmu_files(spec: contract.FmuSpec, package: str, carried: dict[str, bytes], l
         The compiled loader layer, or None to keep pythonfmu's Linux binary.
     runtime
         A standalone FMU's Python runtime (paths relative to ``resources/python/``), or None.
+    kernels
+        Precompiled kernels (:func:`towcable_fmu.fmi.kernels.carried_kernels`), or None.
+        They are a cache of the carried code, not byte-reproducible: the GUID leaves them out.
     """
     entry = f"{spec.name.lower()}_entry_{package.removeprefix('towcable_')}"
     files = {"modelDescription.xml": model_description(spec, runtime is not None),
@@ -240,11 +246,22 @@ def fmu_files(spec: contract.FmuSpec, package: str, carried: dict[str, bytes], l
     if runtime is not None:
         files.update({f"resources/python/{name}": data for name, data in runtime.items()})
     h = hashlib.sha256()
-    for name in sorted(files):
+    for name in sorted(files):  # before the kernels: the GUID is the same with and without them
         h.update(name.encode() + b"\0" + hashlib.sha256(files[name]).digest())
     guid = str(uuid.UUID(bytes=h.digest()[:16], version=5))
     files["modelDescription.xml"] = files["modelDescription.xml"].replace(_GUID_PLACEHOLDER.encode(), guid.encode())
+    files.update(kernels or {})
     return files
+
+
+def _kernel_entries(name: str, compiled: dict[str, bytes] | None, kernels: bool) -> dict[str, bytes] | None:
+    """The kernel entries of FMU ``name``: every FMU of a build with kernels names their CPU
+    target (``resources/kernels/TARGET``, so that whichever is instantiated first chooses
+    it), :data:`KERNEL_FMU` also carries them."""
+    if not kernels:
+        return None
+    named = {"resources/kernels/TARGET": (machine_cache.CARRIED_TARGET + "\n").encode()}
+    return named | (compiled or {}) if name == KERNEL_FMU else named
 
 
 def write_archive(path: Path, files: dict[str, bytes]) -> Path:
@@ -270,7 +287,7 @@ def carried_package(fmu: str | Path) -> str:
 
 # ------------------------------------------------------------------ building
 def build_fmus(outdir: str | Path = "fmus", names: Iterable[str] | None = None, check: bool = False,
-               native_loader: bool = True, standalone: bool = False) -> dict[str, Path]:
+               native_loader: bool = True, standalone: bool = False, kernels: bool = False) -> dict[str, Path]:
     """Build the FMUs of the contract into ``outdir``.
 
     Parameters
@@ -288,6 +305,10 @@ def build_fmus(outdir: str | Path = "fmus", names: Iterable[str] | None = None, 
     standalone
         Also carry a Python runtime (:mod:`towcable_fmu.fmi.runtime`): the FMUs then run
         on a Linux x86-64 machine without any Python installed (needs the loader layer).
+    kernels
+        The FMUs that compile kernels (TowCable) carry them precompiled
+        (:mod:`towcable_fmu.fmi.kernels`): their first use on another machine compiles
+        nothing. The first build of a version of the code compiles them (minutes).
 
     Returns
     -------
@@ -304,11 +325,19 @@ def build_fmus(outdir: str | Path = "fmus", names: Iterable[str] | None = None, 
         from .runtime import runtime_files
 
         runtime = runtime_files()
+    compiled = None
+    if kernels and KERNEL_FMU in names:
+        from .kernels import carried_kernels
+
+        resources = dict(carried, **{f"{package}_activate.py": Path(machine_cache.__file__).read_bytes(),
+                                     "requirements.txt": requirements_text().encode()})
+        compiled = carried_kernels(package, resources)
     with tempfile.TemporaryDirectory(prefix="towcable_loader_") as tmp:
         loader = native.loader_or_warning(tmp) if native_loader else None
         if standalone and loader is None:
             raise native.NativeBuildError("a standalone FMU needs the loader layer (a C compiler)")
-        paths = {name: write_archive(outdir / f"{name}.fmu", fmu_files(specs[name], package, carried, loader, runtime))
+        paths = {name: write_archive(outdir / f"{name}.fmu", fmu_files(specs[name], package, carried, loader, runtime,
+                                                                       _kernel_entries(name, compiled, kernels)))
                  for name in names}
     if set(names) == set(specs):
         (outdir / STAMP).write_text(json.dumps({"hash": source_hash(standalone), "fmus": sorted(names)}),

@@ -28,6 +28,7 @@ import functools
 import math
 import numbers
 import operator
+import sys
 import time
 import traceback
 from typing import Any, Callable, ClassVar
@@ -133,6 +134,15 @@ def _range_text(var: contract.Variable) -> str:
     if var.min is not None and var.max is not None:
         return f"[{var.min:g}, {var.max:g}]{unit}"
     return f">= {var.min:g}{unit}" if var.min is not None else f"<= {var.max:g}{unit}"
+
+
+def _carried_kernels_note() -> str:
+    """Why the precompiled kernels the FMU carries did not serve (the activation module
+    records it, :func:`towcable_fmu.machine_cache.use_carried_kernels`), as a clause of
+    the compile message; empty if they were not looked for."""
+    package = __name__.split(".")[0]
+    reason = getattr(sys.modules.get(f"{package}_activate"), "CARRIED_KERNELS", {}).get(package)
+    return f"; its precompiled kernels were not used: {reason}" if reason else ""
 
 
 class ContractSlave(Fmi2Slave):
@@ -265,7 +275,7 @@ class ContractSlave(Fmi2Slave):
         compiling = kernel_cache.WATCH.seconds - compiling
         if compiling > 0.0:
             self.log(f"{self.instance_name}: compiled the numerical kernels in {compiling:.0f} s (first use of "
-                     f"this code on this machine; cached in {kernel_cache.kernel_folder()})")
+                     f"this code on this machine; cached in {kernel_cache.kernel_folder()}){_carried_kernels_note()}")
         self.in_initialization = False
         if ok:
             self.initialized = True
