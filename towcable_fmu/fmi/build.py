@@ -13,8 +13,10 @@ the same sources (sorted entries, fixed dates):
   (:mod:`towcable_fmu.fmi.bundle`), its activation module
   (:mod:`towcable_fmu.machine_cache`), a one-statement entry script per FMU, pythonfmu's
   Python package (as pythonfmu's own builder embeds it), ``requirements.txt`` (the
-  third-party packages, pythonfmu's convention, so ``pythonfmu deploy`` installs them)
-  and, for a standalone FMU, a Python runtime (:mod:`towcable_fmu.fmi.runtime`);
+  third-party packages, pythonfmu's convention, so ``pythonfmu deploy`` installs them),
+  for a standalone FMU a Python runtime (:mod:`towcable_fmu.fmi.runtime`) and, with
+  ``kernels=True`` (``build_fmu.py``'s default), TowCable's numerical kernels precompiled
+  (:mod:`towcable_fmu.fmi.kernels`);
 * ``binaries/linux64/<model>.so``: the loader layer (:mod:`towcable_fmu.fmi.native`,
   compiled here) in front of pythonfmu's library; ``binaries/win64/<model>.dll``:
   pythonfmu's (not in standalone FMUs: it needs an installed Python).

@@ -43,7 +43,7 @@ print(json.dumps({"folder": kernel_cache.kernel_folder().name}))
 
 
 class KernelCompileError(RuntimeError):
-    """The compiling Python failed; the message holds the end of its output."""
+    """The compiling Python failed or compiled nothing (its messages went to stderr)."""
 
 
 def carried_root() -> Path:
@@ -64,7 +64,7 @@ def _compile(package: str, resources: dict[str, bytes], root: Path) -> str:
         print(f"compiling the numerical kernels for {machine_cache.CARRIED_TARGET} to carry in the FMU (first "
               f"build of this code on this machine; kept in {root})...", file=sys.stderr, flush=True)
         proc = subprocess.run([sys.executable, "-c", _COMPILE, tmp, package], env=env, stdout=subprocess.PIPE,
-                              text=True)
+                              text=True, cwd=tmp)  # python -c puts its folder on sys.path: not a checkout
     if proc.returncode != 0:
         raise KernelCompileError(f"compiling the kernels to carry failed (exit status {proc.returncode}); "
                                  "its messages are above")
@@ -117,13 +117,14 @@ def carried_kernels(package: str, resources: dict[str, bytes]) -> dict[str, byte
     try:
         folder = json.loads(done.read_text(encoding="utf-8"))["folder"]
     except (OSError, ValueError, KeyError):
+        folder = None
+    if folder is None or not any((root / "kernels" / folder).rglob("*.nbc")):
         folder = _compile(package, resources, root)
+        if not any((root / "kernels" / folder).rglob("*.nbc")):
+            raise KernelCompileError(f"compiling the kernels to carry wrote none into {root / 'kernels' / folder}")
         done.parent.mkdir(parents=True, exist_ok=True)
         done.write_text(json.dumps({"folder": folder}), encoding="utf-8")
     kernels = root / "kernels" / folder
-    if not any(kernels.rglob("*.nbc")):
-        done.unlink(missing_ok=True)
-        raise KernelCompileError(f"compiling the kernels to carry wrote none into {kernels}")
     folders = source_folders(root)
     return {f"resources/kernels/{machine_cache.CARRIED_TARGET}/{folder}/{path.relative_to(kernels).as_posix()}":
             neutral_paths(path.read_bytes(), folders)
