@@ -72,3 +72,27 @@ def test_kernels_compile_at_initialisation_only_and_once_per_machine(tmp_path):
     again = _phases(tmp_path / "cache")
     assert again == {"initialise": 0.0, "run": 0.0}  # a new process finds them all
     assert any((tmp_path / "cache" / "kernels").rglob("*.nbi"))
+
+
+def test_a_kernel_numba_cannot_cache_warns_and_runs(tmp_path, monkeypatch):
+    """A kernel of our packages that numba refuses to cache (here: it calls a ctypes
+    function pointer, a "dynamic global"; NUMBA_OPT=0 makes some of ours so) gets numba's
+    warning, and runs: the locator must give numba's warning what it needs."""
+    import ctypes
+    import warnings
+
+    from numba import njit
+    from numba.core.errors import NumbaWarning
+
+    monkeypatch.setenv("TOWCABLE_CACHE_DIR", str(tmp_path))
+    libm = ctypes.CDLL(None)
+    cos = libm.cos
+    cos.restype, cos.argtypes = ctypes.c_double, [ctypes.c_double]
+    source = "def kernel_of_ours(x):\n    return cos(x) + 1.0\n"
+    namespace = {"cos": cos}
+    exec(compile(source, str(ROOT / "towcable_fmu" / "not_cacheable.py"), "exec"), namespace)
+    kernel = njit(cache=True)(namespace["kernel_of_ours"])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        assert kernel(0.0) == pytest.approx(2.0)
+    assert any(issubclass(w.category, NumbaWarning) and "Cannot cache" in str(w.message) for w in caught)

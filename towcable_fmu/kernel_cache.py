@@ -68,7 +68,8 @@ def kernel_folder(root: Path = ROOT) -> Path:
 class KernelCacheLocator(caching._CacheLocator):
     """numba cache locator for the kernels of our packages (see the module docstring)."""
 
-    def __init__(self, py_func, relative: Path) -> None:
+    def __init__(self, py_func, py_file: str, relative: Path) -> None:
+        self._py_file = py_file  # numba's warning about a kernel it cannot cache names it
         self._lineno = py_func.__code__.co_firstlineno
         self._path = kernel_folder() / relative.parent
 
@@ -80,7 +81,7 @@ class KernelCacheLocator(caching._CacheLocator):
             return None
         if relative.parts[0] not in PACKAGES:
             return None
-        self = cls(py_func, relative)
+        self = cls(py_func, py_file, relative)
         try:
             self.ensure_cache_path()
         except OSError as exc:
