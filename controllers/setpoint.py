@@ -5,7 +5,7 @@ The algorithms turn the ship motion into a cable payout set-point ``L`` [m]
 
     phi_sp = phi_nom - L / r_w,        phi_sp_rate = -L_rate / r_w,
 
-because increasing the winch angle reels cable in (W(120), DESIGN.md).
+because increasing the winch angle reels cable in (W(120); docs/design.md, "Conventions").
 
 With ``Delta = r_ref(t) - s_ref`` the displacement of the reference point (normally
 the sheave centre) from its nominal position (its body coordinates: the frame moves

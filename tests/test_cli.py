@@ -83,8 +83,9 @@ BAD_VALUES = [
 
 @pytest.mark.parametrize("override,key,value,allowed", BAD_VALUES, ids=[b[0] for b in BAD_VALUES])
 def test_bad_value_message_names_key_value_and_allowed_range(capsys, override, key, value, allowed):
-    """DESIGN.md: out-of-range values are errors that name the key, the value and the
-    allowed range, e.g. ``cable.segments[0].length = -3 ... > 0 [m]``, in that order."""
+    """docs/design.md ("Design rules"): out-of-range values are errors that name the key,
+    the value and the allowed range, e.g. ``cable.segments[0].length = -3 ... > 0 [m]``, in
+    that order."""
     assert main(["static", "hanging_cable", "--set", override]) == 2
     captured = capsys.readouterr()
     err = captured.err

@@ -423,7 +423,7 @@ def _load(w, kind, g_amp, cm=1.0, v=(0.0, 0.0, 0.0), a=(0.0, 0.0, 0.0), t=0.0, c
 
 
 def _drag_w58(kind, rel, u, cd_fixed=0.0):
-    """W(58) with the sign and Reynolds-number conventions of DESIGN.md / hydro/cable.py:
+    """W(58) with the sign and Reynolds-number conventions of docs/design.md / hydro/cable.py:
     f = 1/2 rho d |V|^2 (C_D(Re_n) f_n V_n/|V_n| + C_D(Re) f_t sign(V.u) u)."""
     rel = np.asarray(rel, dtype=float)
     speed = np.linalg.norm(rel)
@@ -455,7 +455,7 @@ def _local_current(name):
 @pytest.mark.parametrize("g_amp", [0.5, 1.8, 3.0])
 @pytest.mark.parametrize("current", ["uniform", "linear"])
 def test_drag_amplification_applies_to_the_steady_current_drag_only(kind, g_amp, current):
-    """W(64)-(65) as corrected in DESIGN.md: mean drag = G x steady drag; the drag from the
+    """W(64)-(65) as corrected in docs/design.md: mean drag = G x steady drag; the drag from the
     cable's own motion (and from turbulence) is not amplified."""
     v_cab = np.array([-0.7, 0.45, 0.3])
     still = _water()
@@ -519,7 +519,7 @@ ACC_F = np.array([0.8, -0.5, 1.1])  # flow acceleration [m/s^2]
 
 @pytest.mark.parametrize("cm", [0.0, 1.0, 2.5])
 def test_flow_acceleration_normal_inertia_force_on_a_cable_at_rest(cm):
-    """W(66)-(69) with the Froude-Krylov term once (DESIGN.md): on a cable at rest in a
+    """W(66)-(69) with the Froude-Krylov term once (docs/design.md): on a cable at rest in a
     uniformly accelerating flow the normal force per length is (1 + C_m) rho A a_n."""
     w, t0 = _accelerating_water(ACC_F)
     vel, acc = np.empty(3), np.empty(3)
@@ -553,7 +553,7 @@ def test_flow_acceleration_normal_inertia_force_on_a_cable_at_rest(cm):
 
 
 def test_flow_acceleration_along_a_cable_at_rest_gives_no_inertia_force():
-    """Tangential part: DESIGN.md's reading of W(66)/(69b), f_I = rho A (C_m + 1) dV_f,n/dt,
+    """Tangential part: docs/design.md's reading of W(66)/(69b), f_I = rho A (C_m + 1) dV_f,n/dt,
     puts neither added mass nor Froude-Krylov force along the cable (a deviation from the
     pressure-gradient force rho A a_t that e.g. MoorDyn applies; kept as designed)."""
     w, t0 = _accelerating_water(ACC_F)
@@ -584,7 +584,7 @@ def test_flow_acceleration_generalised_force_of_an_element():
     residual(m._replace(water=_water()), q, zero, zero, t0, ship, r_still)
     gen = r_still - r_acc  # the residual holds minus the generalised hydrodynamic force
     a_n = ACC_F - (ACC_F @ U_CAB) * U_CAB
-    f = (1.0 + cm) * RHO * AREA * a_n  # normal only (DESIGN.md on W(69b))
+    f = (1.0 + cm) * RHO * AREA * a_n  # normal only (docs/design.md on W(69b))
     h = 1.0 / (npts - 1)
     slope_w = length**2 * (1.0 - h * h) / 12.0
     gen_n = gen.reshape(4, 3) - np.outer(gen.reshape(4, 3) @ U_CAB, U_CAB)

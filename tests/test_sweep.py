@@ -482,3 +482,66 @@ def test_example_sweep_in_small_runs_and_plots(tmp_path):
                  "--exceedance", "--label", "hs", "compensation"]) == 0
     for name in ("heatmap_tension.sheave.max_hs_heading.png", "exceedance_tension.sheave.png"):
         assert (spec.output / name).stat().st_size > 5000
+
+
+# ---------------------------------------------------------------------------- every model kind
+@pytest.mark.parametrize("scene", ["snapping_cable_nodal", "tug_tow", "full_scale"])
+def test_scene_mode_sweeps_run_every_model_kind_with_any_signal_statistic(tmp_path, scene):
+    """A sweep runs the scene's own model (nodal-position, rigid-link, ANCF): every case ok,
+    and its generic statistics equal the same reductions of an independent run of that
+    scene with the case's overrides."""
+    from towcable_fmu.models import simulation_from
+
+    doc = {"sweep": {"scene": scene, "duration": 0.6, "settle": 0.2, "interval": 0.02, "output": str(tmp_path),
+                     "statistics": ["tension.top.max", "tension.top.p90", "towbody.x.mean"]},
+           "parameters": {"environment.gravity": [9.81, 9.6]}}
+    spec = spec_from_table(doc)
+    assert spec.units == {"tension.top.max": "N", "tension.top.p90": "N", "towbody.x.mean": "m"}
+    report = run_sweep(spec, workers=1, progress=False)
+    rows = check_complete(report.table, spec)
+    assert [r["status"] for r in rows] == ["ok", "ok"], [r["error"] for r in rows]
+    for row, case in zip(sorted(rows, key=lambda r: float(r["environment.gravity"]), reverse=True), spec.cases()):
+        series = simulation_from(scene, case.overrides).run(0.6, interval=0.02)
+        window = series["time"] >= 0.2 - 1e-12
+        top = series["tension.top"][window]
+        assert float(row["tension.top.max [N]"]) == pytest.approx(top.max(), rel=1e-9)
+        assert float(row["tension.top.p90 [N]"]) == pytest.approx(np.percentile(top, 90.0), rel=1e-9)
+        assert float(row["towbody.x.mean [m]"]) == pytest.approx(series["towbody.x"][window].mean(), rel=1e-9)
+
+
+def test_a_statistic_of_a_signal_the_scene_lacks_names_the_signals_it_has():
+    with pytest.raises(SpecError) as info:
+        spec_from_table({"sweep": {"scene": "tug_tow", "duration": 10.0, "statistics": ["tension.sheave.max"]}})
+    message = str(info.value)
+    assert message.startswith("sweep.statistics[0] = 'tension.sheave.max'")
+    assert "no signal tension.sheave" in message and "tension.towbody" in message and "cable.span" in message
+
+
+def test_the_default_statistics_are_those_the_scene_has_signals_for():
+    assert spec_from_table({"sweep": {"scene": "full_scale"}}).statistics == tuple(STATISTICS)
+    tug = spec_from_table({"sweep": {"scene": "tug_tow"}}).statistics
+    assert tug == ("tension.min.min", "slack.time", "towbody.z.std")  # no sheave, no contact, no towbody.y
+
+
+def test_a_segment_alias_on_a_scene_without_cable_segments_is_a_spec_error():
+    with pytest.raises(SpecError) as info:
+        spec_from_table({"sweep": {"scene": "tug_tow"}, "parameters": {"G": [1.0, 2.0]}})
+    assert str(info.value).startswith("parameters.G = 'G'") and "no segments" in str(info.value)
+
+
+def test_percentiles_and_reductions_of_any_signal():
+    t = np.arange(0.0, 101.0)
+    series = {"time": t, "tension.towbody": t.copy(), "towbody.z": -t}
+    names = ["tension.towbody.p99", "tension.towbody.p99.9", "tension.towbody.p0", "tension.towbody.p100",
+             "towbody.z.std", "tension.towbody.mean"]
+    stats = compute_statistics(series, names, settle=0.0)
+    # values 0, 1, ..., 100: the NN-th percentile (linear interpolation) is NN
+    assert stats["tension.towbody.p99"] == pytest.approx(99.0)
+    assert stats["tension.towbody.p99.9"] == pytest.approx(99.9)
+    assert (stats["tension.towbody.p0"], stats["tension.towbody.p100"]) == (0.0, 100.0)
+    assert stats["towbody.z.std"] == pytest.approx(math.sqrt((101 ** 2 - 1) / 12.0))  # discrete uniform
+    assert stats["tension.towbody.mean"] == pytest.approx(50.0)
+    for bad in ("tension.towbody.p101", "tension.towbody.median", "max"):
+        with pytest.raises(SpecError) as info:
+            spec_from_table({"sweep": {"scene": "full_scale", "statistics": [bad]}})
+        assert "SIGNAL.max, .min, .mean, .std or .pNN" in str(info.value)

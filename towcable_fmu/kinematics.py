@@ -1,6 +1,6 @@
 """Ship rigid-body kinematics: rotation matrix W(24)-(25) and its time derivatives.
 
-Conventions (DESIGN.md): inertial frame z up; ship body frame X forward, Y port, Z up;
+Conventions (docs/design.md): inertial frame z up; ship body frame X forward, Y port, Z up;
 Euler angles yaw alpha, pitch beta, roll gamma with R = Rz(alpha) Ry(beta) Rx(gamma),
 so that a point fixed in the ship at body coordinates ``s`` is at
 ``r = r_CG + R s`` in the inertial frame.

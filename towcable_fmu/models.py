@@ -6,7 +6,8 @@ user can run from the command line runs in the FMU as well.
 
 from __future__ import annotations
 
-from typing import Any
+from pathlib import Path
+from typing import Any, Iterable, Mapping
 
 
 def model_kind(scene: Any) -> str:
@@ -16,14 +17,22 @@ def model_kind(scene: Any) -> str:
     return scene.cable.formulation
 
 
+def simulation_from(name_or_path: str | Path, overrides: Mapping[str, Any] | Iterable[tuple[str, Any]] = ()):
+    """A new, uninitialised simulation of a built-in scene (by name) or a scene file, with
+    dotted-key overrides (see :func:`simulation_for`)."""
+    from .scene import load_scene
+
+    return simulation_for(load_scene(name_or_path, overrides))
+
+
 def simulation_for(scene: Any):
     """A new, uninitialised simulation of a loaded scene (see :func:`model_kind`).
 
     Returns
     -------
     Simulation, NodalSimulation or RigidLinkSimulation
-        All three offer ``initialize``, ``step``, ``run``, ``outputs``, ``statistics``,
-        ``get_state`` and ``set_state``.
+        All three offer ``initialize``, ``step``, ``run``, ``outputs``, ``output_names``,
+        ``unit_of``, ``statistics``, ``get_state`` and ``set_state``.
     """
     kind = model_kind(scene)
     if kind == "rigid_link":

@@ -5,7 +5,7 @@ function costs several microseconds (numba unboxes every array of the tuple), an
 building the outputs in Python costs more; the outputs a co-simulation reads at every
 communication point, and that :meth:`towcable_fmu.simulation.Simulation.run` records
 at every sample, are therefore computed here in a single call, under the names of
-DESIGN.md. :class:`OutputLayout` says which of them a scene has.
+docs/design.md ("Output names"). :class:`OutputLayout` says which of them a scene has.
 """
 
 from __future__ import annotations
@@ -22,6 +22,7 @@ from .contact.surfaces import SHEAVE, WINCH
 from .hydro.towbody import body_force
 from .kinematics import rotation_matrix
 from .nodal.rigid_body import angular_kinematics, tow_point_state
+from .numerics.genalpha import CLOCK_TIME
 from .numerics.genalpha import advance as genalpha_advance
 
 #: Entries of the array returned by :func:`output_values`, SI units.
@@ -277,7 +278,7 @@ def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive
             return k
         if index.shape[0] == 0:
             continue
-        values = output_values(model, st.q, st.v, st.a, st.phi, st.clock[0], ws.ship, xi, body_mass, has_winch,
+        values = output_values(model, st.q, st.v, st.a, st.phi, st.clock[CLOCK_TIME], ws.ship, xi, body_mass, has_winch,
                                sheave_position, payout_radius, phi_nom, ws.r)
         for j in range(index.shape[0]):
             rows[k, j] = values[index[j]]

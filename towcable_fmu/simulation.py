@@ -13,6 +13,7 @@ from typing import Any, Callable, Iterable, Mapping
 
 import numpy as np
 
+from . import contract
 from . import drive as drive_poly
 from .ancf import element, initial_shape, measures
 from .ancf.mesh import Mesh, build_mesh, build_model, held_load_forces, winch_radius
@@ -30,6 +31,8 @@ from .scene import load_scene
 from .scene.model import Scene
 from .sampling import output_interval, sample_times
 
+#: Outputs of a scene with a rigid load held by the cable (``[load]``), see :meth:`Simulation._load_outputs`.
+LOAD_OUTPUTS = ("tension.load", "load.angle", "energy.load")
 #: Normalised element positions at which the tension profile is sampled.
 _PROFILE_XI = np.array([0.0, 0.5, 1.0])
 #: advance_recording's arguments to step without outputs, and to read all outputs of a state
@@ -127,7 +130,7 @@ class Simulation:
         self._phi_nom = scene.winch.phi_nom if scene.winch is not None else 0.0
         rigid = bool(self.model.rigid.enabled)
         self._body_mass = -1.0 if scene.towbody is None or rigid else scene.towbody.mass  # [kg]
-        #: The outputs this scene has (names in DESIGN.md), see :meth:`outputs`.
+        #: The outputs this scene has (names in docs/design.md), see :meth:`outputs`.
         self.layout = OutputLayout(towbody=scene.towbody is not None, winch=scene.winch is not None,
                                    sheave=scene.sheave is not None, contact=bool(self.model.contact.enabled),
                                    rigid=rigid)
@@ -156,7 +159,7 @@ class Simulation:
     @property
     def time(self) -> float:
         """Current simulation time [s]."""
-        return float(self.state.clock[0])
+        return float(self.state.clock[genalpha.CLOCK_TIME])
 
     def initialize(self, t0: float = 0.0, ship: np.ndarray | None = None,
                    setpoint: tuple[float, float] | None = None, statics: bool | None = None,
@@ -386,7 +389,7 @@ class Simulation:
             self._restore(saved)
             if wake is not None:
                 self.viv.set_state(wake)
-            raise SolverError(f"the solver could not advance from t = {saved[0].clock[0]:.6g} s to "
+            raise SolverError(f"the solver could not advance from t = {saved[0].clock[genalpha.CLOCK_TIME]:.6g} s to "
                               f"t = {t_end:.6g} s: Newton failed at the minimum step size "
                               f"{self.options.h_min:g} s near t = {reached:.6g} s{self._failure_hint()}")
         out = self.outputs()
@@ -501,10 +504,6 @@ class Simulation:
         """Node positions [m], shape (nn, 3) (a rigid load's point is not a node)."""
         return self._cable_coordinates(self.state.q)[:, 0, :].copy()
 
-    def node_velocities(self) -> np.ndarray:
-        """Node velocities [m/s], shape (nn, 3)."""
-        return self._cable_coordinates(self.state.v)[:, 0, :].copy()
-
     def _cable_coordinates(self, x: np.ndarray) -> np.ndarray:
         """The cable's part of a coordinate vector as (nn, 2, 3): position and slope per node."""
         return x[:6 * self.mesh.n_nodes].reshape(-1, 2, 3)
@@ -540,8 +539,18 @@ class Simulation:
         arc = self.mesh.node_arc[:-1, None] + self.mesh.lengths[:, None] * _PROFILE_XI[None, :]
         return arc.ravel(), t.ravel()
 
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        """The outputs this scene has, ``time`` first: the keys of :meth:`outputs` and the
+        columns of :meth:`run` (units: :meth:`unit_of`)."""
+        return ("time", *self.layout.names, *(LOAD_OUTPUTS if self.model.load_on else ()))
+
+    def unit_of(self, name: str) -> str:
+        """Unit of an output name (the variable contract's)."""
+        return contract.unit_of(name)
+
     def outputs(self) -> dict[str, float]:
-        """Named outputs at the current time (names as in DESIGN.md), SI units.
+        """Named outputs at the current time (names as in docs/design.md), SI units.
 
         ``tension.top`` and ``tension.bottom`` are the support reactions at a
         prescribed end (the consistent nodal force, which converges faster than the
@@ -689,8 +698,8 @@ class Simulation:
     def statistics(self) -> dict[str, float]:
         """Solver counters since initialisation, plus the statics result."""
         out = {f"solver.{name}": int(v) for name, v in zip(genalpha.STAT_NAMES, self.state.stats)}
-        out["solver.last_error_estimate"] = float(self.state.clock[2])
-        out["solver.time_step"] = float(self.state.clock[1])
+        out["solver.last_error_estimate"] = float(self.state.clock[genalpha.CLOCK_ERROR])
+        out["solver.time_step"] = float(self.state.clock[genalpha.CLOCK_STEP])
         if self.statics is not None:
             out["solver.statics_iterations"] = self.statics.iterations
             out["solver.statics_residual"] = self.statics.residual_norm
@@ -733,7 +742,7 @@ class Simulation:
         if data.get("turbulence_t0") is not None and (self.turbulence is None
                                                        or self.turbulence.t0 != data["turbulence_t0"]):
             self._start_turbulence(float(data["turbulence_t0"]))
-        self._cover(float(arrays.clock[0]))
+        self._cover(float(arrays.clock[genalpha.CLOCK_TIME]))
         self._restore((arrays, (float(data["setpoint"][0]), float(data["setpoint"][1]))))
         if self.viv is not None and data.get("viv") is not None:
             self.viv.set_state(data["viv"])

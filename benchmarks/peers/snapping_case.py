@@ -5,9 +5,9 @@ top end is moved vertically, z_top(t) = z0 + A sin(2 pi f t), starting abruptly 
 t = 0 from static equilibrium (the top velocity jumps from 0 to A*omega). The output
 is the force in the top support ("top tension") normalised by its static value T0.
 
-Source: *Dynamic modeling of cable towed body using nodal position finite element
-method*, section 3.1 and Tables 1-2 (shared/reference/nodal-position-fem-towed-cable-
-paper.md; the experiment it cites is on a 1/16 in x 62 ft cable with an 8 in sphere).
+Source: Sun et al., *Dynamic modeling of cable towed body using nodal position finite
+element method* (conference paper), section 3.1 and Tables 1-2 (the experiment it
+cites is on a 1/16 in x 62 ft cable with an 8 in sphere).
 The OCR of that paper is damaged in places; every value below says where it comes
 from and why it was chosen. All quantities in SI units.
 

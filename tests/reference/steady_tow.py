@@ -3,7 +3,7 @@
 This module does not use any code of ``towcable_fmu``.  It solves the static
 equilibrium of a towed cable in a steady current with a lumped towed body at its
 lower end, following the hydrodynamic model of Westin (2018), "W(n)" below,
-with the corrections listed in ``DESIGN.md`` ("Known errors in the reference").
+with the corrections listed in ``docs/design.md`` ("Known errors in the references").
 
 Frame: inertial, ``z`` up, gravity ``g = [0, 0, -g]``.  The waterline is the
 plane ``z = z_waterline``; points with ``z > z_waterline`` are in air and get
@@ -24,7 +24,7 @@ equilibrium and Hooke's law (engineering strain ``eps = |T|/EA``)::
 
 * weight ``mu g`` (``mu`` mass per unstretched length),
 * buoyancy ``-rho_f A g`` with ``A = pi d^2/4`` (W(57)), below the waterline only,
-* drag (below the waterline only), W(58)-(65) with the DESIGN.md corrections::
+* drag (below the waterline only), W(58)-(65) with the docs/design.md corrections::
 
       V   = V_f(z) - r_dot = V_f(z)           (steady state, r_dot = 0)
       V_t = (V . u_t) u_t,   V_n = V - V_t     (W(59))
@@ -175,7 +175,7 @@ def fn_faired(eta: ArrayLike) -> NDArray[np.float64]:
 def ft_faired(eta: ArrayLike) -> NDArray[np.float64]:
     """Tangential loading function of a ribbon-faired cable, W(145b).
 
-    W(145b) is printed as ``f_n``; it is the tangential function (DESIGN.md).
+    W(145b) is printed as ``f_n``; it is the tangential function (docs/design.md).
 
     Parameters
     ----------
@@ -269,7 +269,7 @@ def cable_drag_per_length(
     """Steady drag force per unit length on a cable element [N/m].
 
     ``f = G * 0.5 rho d C_D |V|^2 (f_n(eta) V_n/|V_n| + f_t(eta) V_t/|V_t|)``,
-    W(58)-(65) with the DESIGN.md corrections (drag along the relative flow,
+    W(58)-(65) with the docs/design.md corrections (drag along the relative flow,
     ``eta`` folded into ``[0, pi/2]``, total drag ``G`` times the steady drag).
 
     Parameters
@@ -864,7 +864,7 @@ def full_scale_scene(
       ``(250 - rho V) g = 445 N``); cylinder d = 0.3 m, 3 m along x
       (C_D 0.85 on pi 0.15^2 m^2 axially; C_D 1.0 on 0.3 x 3 m^2 along y and
       z) plus hydrofoil 0.5 m^2 (C_D 0.008 along x, 1.17 along z, 0 along y);
-      lift ``0.5 rho |V_f|^2 0.5 m^2 0.6`` downward = 744.9 N (DESIGN.md: use
+      lift ``0.5 rho |V_f|^2 0.5 m^2 0.6`` downward = 744.9 N (docs/design.md: use
       the coefficient; the thesis quotes 722 N);
     * tow point: the top of the winch, ship-frame (-28.8, 0, 3.1 + 0.3) with the
       ship at rest at the origin -> z = 3.4 m; default x = y = 0.

@@ -4,7 +4,7 @@ Nodal coordinates of one element: ``e = [r(0), r_p(0), r(L), r_p(L)]`` (12 numbe
 with ``r_p = dr/dp`` the slope with respect to the unstretched arc parameter ``p``.
 Positions are interpolated by ``r(p) = S(p) e`` with ``S = [N1 I, N2 I, N3 I, N4 I]``.
 
-Deviation from the printed reference (DESIGN.md, known errors W(11), W(29), A3): with
+Deviation from the printed reference (docs/design.md, known errors W(11), W(29), A3): with
 slopes ``r_p = dr/dp`` the slope shape functions carry a factor L and the fourth is
 ``L (xi^3 - xi^2)``; the mass matrix W(12) is consistent with this form.
 

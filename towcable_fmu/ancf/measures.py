@@ -168,13 +168,6 @@ def summary(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: f
     return out
 
 
-def angle_from_vertical(direction: np.ndarray) -> float:
-    """Angle [rad] between a direction and the downward vertical (0 = hanging straight down)."""
-    d = np.asarray(direction, dtype=float)
-    horizontal = float(np.hypot(d[0], d[1]))
-    return float(np.arctan2(horizontal, -d[2]))
-
-
 @njit(cache=True)
 def point_on_cable(model: CableModel, q: np.ndarray, e: int, xi: float) -> np.ndarray:
     """Position [m], unit direction and tension [N] at normalised position xi of element e.

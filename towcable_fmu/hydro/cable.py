@@ -1,6 +1,6 @@
 """Hydrodynamic loads on the cable, W(56)-(84), integrated along each element.
 
-Per unit length at a submerged point (relative flow ``V = V_f - rdot``, DESIGN.md):
+Per unit length at a submerged point (relative flow ``V = V_f - rdot``, docs/design.md):
 
 * drag, W(58): ``1/2 rho d C_D |V|^2 (f_n V_n/|V_n| + f_t V_t/|V_t|)`` with the loading
   functions of the segment and C_D(Re). Deviation: W(63) bases Re on the normal
@@ -9,11 +9,11 @@ Per unit length at a submerged point (relative flow ``V = V_f - rdot``, DESIGN.m
   cable while f_t(0) stays finite, so a cable moving along itself (a vertical cable
   heaving, a falling body's line) would feel an unbounded skin friction; the tangential
   loading function is calibrated for C_D at the flow's own Reynolds number;
-* amplified mean drag, W(64)-(65) as corrected in DESIGN.md: ``(G - 1)`` times the
+* amplified mean drag, W(64)-(65) as corrected in docs/design.md: ``(G - 1)`` times the
   steady drag of the mean current on the cable at rest, so that the mean drag is G
   times the steady drag;
 * buoyancy W(57): ``rho A g`` upwards, ``A = pi d^2 / 4``;
-* inertia W(66)-(69) with the Froude-Krylov term counted once (DESIGN.md):
+* inertia W(66)-(69) with the Froude-Krylov term counted once (docs/design.md):
   ``rho A (C_m + 1) dV_f,n/dt - rho A C_m a_n``; the added-mass part (normal
   acceleration only) appears in the residual with the point acceleration and in the
   iteration matrix as the added-mass matrix W(74).

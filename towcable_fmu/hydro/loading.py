@@ -4,9 +4,9 @@
   the angle eta in [0, pi/2] between the relative flow and the cable.
 * Ribbon-faired cable, W(145) (Folb & Nelligan); W(145b) is the tangential function
   f_t (the reference prints it as f_n).
-* The loading functions of the nodal-position paper (Sun et al., shared/reference/
-  nodal-position-fem-towed-cable-paper.md, eqs. 28-29; the OCR is damaged, read as
-  below), meant with a constant C_D equal to the paper's drag factor D:
+* The loading functions of the nodal-position paper (Sun et al., "Dynamic modeling of
+  cable towed body using nodal position finite element method", eqs. 28-29; the OCR is
+  damaged, read as below), meant with a constant C_D equal to the paper's drag factor D:
   bare, eq. 28: f_n = sin^2 a, f_t = -0.019 + 0.0239 cos a + 0.02 sin a + 0.001 cos 2a
   (f_t is 0.0059 along the flow and 0 across it); faired, eq. 29: f_n = g(a) sin a,
   f_t = g(a) cos a with g = 0.273 + 0.827 a^2 below 30 deg and g = sin a above (the two

@@ -1,7 +1,7 @@
-"""Nodal-position finite elements for the cable (Sun et al., shared/reference/
-nodal-position-fem-towed-cable-paper.md): straight two-node elements whose unknowns are
-the nodal positions, a lumped towed body (or a rigid 6-DOF body, :mod:`.rigid_body`)
-at the free end, a top end held on the ship.
+"""Nodal-position finite elements for the cable (Sun et al., "Dynamic modeling of cable
+towed body using nodal position finite element method"): straight two-node elements
+whose unknowns are the nodal positions, a lumped towed body (or a rigid 6-DOF body,
+:mod:`.rigid_body`) at the free end, a top end held on the ship.
 
 Modules: :mod:`.model` (scene -> compiled data), :mod:`.element` (one element's loads),
 :mod:`.assembly` (residual over the mesh, matrices by coloured differences),

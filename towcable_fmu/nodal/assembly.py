@@ -26,9 +26,8 @@ from .element import add_element
 from .model import NodalModel
 from .rigid_body import body_residual, tow_point_state
 
-#: Sub- and super-diagonals of the banded matrices (three coordinates per node).
+#: Sub-diagonals (= super-diagonals) of the banded matrices (three coordinates per node).
 KL = 5
-KU = 5
 #: The same with a rigid towed body (its six coordinates couple with the last free node).
 KL_RIGID = 8
 

@@ -28,7 +28,7 @@ Deviations from the paper, and why:
   added-mass matrix of eq. 18 (integrand quadratic in xi) is also exact.
 * Fluid inertia. Eq. 18d, F_a = M_a dV_f/dt, has only the added-mass part; the
   Froude-Krylov part rho A dV_f,n/dt of an accelerating flow is included (as in the
-  ANCF cable; DESIGN.md on W(69b)). It vanishes in still water.
+  ANCF cable; docs/design.md on W(69b)). It vanishes in still water.
 * Lengths. The fluid loads are per unstretched length (eq. 22 uses the current length;
   the difference is the strain, below 0.5 % for steel).
 """

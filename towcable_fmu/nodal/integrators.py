@@ -33,6 +33,10 @@ from .element import axial_force
 from .model import NodalModel
 from .rigid_body import attitude_ok
 
+# fields of the integrator's clock
+CLOCK_TIME = 0  #: time [s]
+CLOCK_STEP = 1  #: current step size [s]
+
 GENALPHA = 0
 RK4 = 1
 INTEGRATORS = {"genalpha": GENALPHA, "rk4": RK4}
@@ -208,7 +212,7 @@ def advance_recording(m: NodalModel, method: int, h_max: float, h_min: float, co
                       drive_x: np.ndarray, values: np.ndarray) -> int:
     """Step to each time in ``samples`` [s] and record :func:`output_values` in ``values``.
 
-    Steps are ``clock[1]`` long (at most h_max, shortened to land on the samples; halved
+    Steps are ``clock[CLOCK_STEP]`` [s] long (at most h_max, shortened to land on the samples; halved
     after a failed generalised-alpha step, doubled back after a success).
 
     Returns
@@ -220,27 +224,27 @@ def advance_recording(m: NodalModel, method: int, h_max: float, h_min: float, co
     out = np.empty((4, q.size))
     for s in range(samples.size):
         target = samples[s]
-        while clock[0] < target - 1e-12 * max(1.0, abs(target)):
-            h = min(clock[1], target - clock[0])
+        while clock[CLOCK_TIME] < target - 1e-12 * max(1.0, abs(target)):
+            h = min(clock[CLOCK_STEP], target - clock[CLOCK_TIME])
             if method == GENALPHA:
-                ok = genalpha_step(m, h, coef, tol, max_iter, clock[0], drive_t, drive_x, q, v, x, acc, out, stats)
+                ok = genalpha_step(m, h, coef, tol, max_iter, clock[CLOCK_TIME], drive_t, drive_x, q, v, x, acc, out, stats)
             else:
-                ok = rk4_step(m, h, clock[0], drive_t, drive_x, q, v, out, stats)
+                ok = rk4_step(m, h, clock[CLOCK_TIME], drive_t, drive_x, q, v, out, stats)
             ok = ok and np.all(np.isfinite(out[0])) and np.all(np.isfinite(out[1]))
             if not ok:
                 stats[4] += 1
-                clock[1] *= 0.5
-                if clock[1] < h_min or method == RK4:
+                clock[CLOCK_STEP] *= 0.5
+                if clock[CLOCK_STEP] < h_min or method == RK4:
                     return s
                 continue
             q[:], v[:], x[:] = out[0], out[1], out[2]
             if method == GENALPHA:
                 acc[:] = out[3]
-            clock[0] += h
+            clock[CLOCK_TIME] += h
             stats[0] += 1
-            if h == clock[1]:
-                clock[1] = min(2.0 * clock[1], h_max)
-        output_values(m, q, v, x, clock[0], values[s])
+            if h == clock[CLOCK_STEP]:
+                clock[CLOCK_STEP] = min(2.0 * clock[CLOCK_STEP], h_max)
+        output_values(m, q, v, x, clock[CLOCK_TIME], values[s])
         if not np.all(np.isfinite(values[s])):
             return s
     return samples.size

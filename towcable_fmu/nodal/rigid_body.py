@@ -1,13 +1,14 @@
 """A rigid 6-DOF towed body at the end of the cable (nodal-position or ANCF).
 
-The paper (shared/reference/nodal-position-fem-towed-cable-paper.md, section 3.2)
-models the sea-trial body "as a rigid body" and gives its mass, volume, length and
-principal inertias (Table 4) but no equations; these are the standard Newton-Euler
-equations, written as residuals like the cable's eq. 27.
+The nodal-position paper (Sun et al., "Dynamic modeling of cable towed body using nodal
+position finite element method", section 3.2) models the sea-trial body "as a rigid
+body" and gives its mass, volume, length and principal inertias (Table 4) but no
+equations; these are the standard Newton-Euler equations, written as residuals like the
+cable's eq. 27.
 
 Coordinates (six, appended after the free cable nodes): the centre of gravity (CG)
 ``r`` [m] (inertial) and the Euler angles ``(roll, pitch, yaw)`` [rad] of
-R = Rz(yaw) Ry(pitch) Rx(roll) (DESIGN.md, W(24)); body axes x forward, y port, z up.
+R = Rz(yaw) Ry(pitch) Rx(roll) (docs/design.md, W(24)); body axes x forward, y port, z up.
 The body angular velocity is ``w = G(angles) d(angles)/dt``. Euler angles are singular
 at pitch = +-pi/2: the step fails there (|cos pitch| < 1e-3) and the scene check keeps
 the initial pitch below 1.4 rad; a towed body trims at small pitch.

@@ -17,13 +17,14 @@ from typing import Any, Callable, Iterable, Mapping
 
 import numpy as np
 
+from .. import contract
 from .. import drive as drive_poly
 from ..errors import SceneError, SolverError
 from ..numerics.genalpha import scheme_coefficients
 from ..scene import load_scene
 from ..scene.model import Scene
 from ..simulation import _motion_source, check_ship_state
-from .integrators import INTEGRATORS, STAT_NAMES, accelerations, advance_recording, output_values, prescribe_top
+from .integrators import CLOCK_STEP, CLOCK_TIME, INTEGRATORS, STAT_NAMES, accelerations, advance_recording, output_values, prescribe_top
 from .assembly import cable_residual, expand
 from .model import NodalModel, build_nodal_model, n_coordinates
 from .rigid_body import ROW_TOW, angular_kinematics, rotation
@@ -75,6 +76,16 @@ class NodalSimulation:
         self._statics: dict[str, float] = {}
         self._initialized = False
 
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        """The outputs this scene has, ``time`` first: the columns of :meth:`run` (units:
+        :meth:`unit_of`)."""
+        return ("time", *self.names)
+
+    def unit_of(self, name: str) -> str:
+        """Unit of an output name (the variable contract's)."""
+        return contract.unit_of(name)
+
     @classmethod
     def from_scene(cls, name_or_path: str | Path,
                    overrides: Mapping[str, Any] | Iterable[tuple[str, Any]] = ()) -> "NodalSimulation":
@@ -84,7 +95,7 @@ class NodalSimulation:
     @property
     def time(self) -> float:
         """Current simulation time [s]."""
-        return float(self.clock[0])
+        return float(self.clock[CLOCK_TIME])
 
     def _drive(self, marks: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Drive table of the scene's ship motion through ``marks`` [s], knots <= one step apart."""
@@ -311,7 +322,7 @@ class NodalSimulation:
                 pitch = (f"; the rigid body's pitch is {self.q[-2]:.4g} rad, its Euler angles are singular at "
                          f"+-pi/2" if self.model.rigid.enabled else "")
                 raise SolverError(f"the {s.integrator} integrator could not advance to t = {samples[reached]:.6g} s "
-                                  f"(step {self.clock[1]:.3g} s; an explicit RK4 step must resolve the "
+                                  f"(step {self.clock[CLOCK_STEP]:.3g} s; an explicit RK4 step must resolve the "
                                   f"highest axial frequency of the mesh{pitch})")
             if progress is not None:
                 progress(self.time, t0 + duration)

@@ -54,9 +54,20 @@ from ..ancf.prescribed import apply_prescribed
 from ..ancf.system import CableModel, iteration_matrix, residual
 from .banded import band_lu, band_solve
 
+# results of advance
 OK = 0
 FAILED_MIN_STEP = 1
-NOT_FINITE = 2
+
+# results of one step attempt (_try_step)
+STEP_ACCEPTED = 0
+STEP_NOT_CONVERGED = 1  #: Newton did not converge (or the factorisation failed)
+STEP_ERROR_TOO_LARGE = 2  #: adaptive steps: the local error estimate exceeds 1
+
+# fields of IntegratorState.clock
+CLOCK_TIME = 0  #: time [s]
+CLOCK_STEP = 1  #: current step size [s]
+CLOCK_ERROR = 2  #: last local error estimate [-]
+CLOCK_STEPS_SINCE_CUT = 3  #: accepted steps since the last step-size cut
 
 # indices into IntegratorState.stats
 STAT_STEPS = 0
@@ -109,7 +120,7 @@ class IntegratorState(NamedTuple):
     a: np.ndarray        #: (nf,) accelerations
     abar: np.ndarray     #: (nf,) auxiliary accelerations of the scheme
     phi: np.ndarray      #: (4,) winch rotation, rate, acceleration, auxiliary acceleration
-    clock: np.ndarray    #: (4,) time [s], current step size [s], last error estimate [-], accepted steps since the last step-size cut
+    clock: np.ndarray    #: (4,) the CLOCK_* fields: time [s], step size [s], last error estimate [-], steps since a cut
     jac: np.ndarray      #: (7,) valid, step size, age, time, Newton contraction estimate, steps left to factorise afresh, backoff length
     jac_q: np.ndarray    #: (nf,) coordinates at which the Jacobian was evaluated
     jac_v: np.ndarray    #: (nf,) velocities at which the Jacobian was evaluated
@@ -310,7 +321,7 @@ def initial_acceleration(model: CableModel, opt: SolverOptions, st: IntegratorSt
     st.a[model.free_dofs] = ws.dx
     st.abar[:] = st.a
     st.phi[3] = st.phi[2]
-    st.clock[0] = t
+    st.clock[CLOCK_TIME] = t
     return True
 
 
@@ -333,8 +344,8 @@ def _winch_step(opt, st, h, sp, sp_rate, am, af, gamma, beta):
 
 @njit(cache=True, inline="always")
 def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
-    """One step attempt of size h. Returns 0 accepted, 1 Newton failure, 2 error-test failure."""
-    t1 = st.clock[0] + h
+    """One step attempt of size h: STEP_ACCEPTED, STEP_NOT_CONVERGED or STEP_ERROR_TOO_LARGE."""
+    t1 = st.clock[CLOCK_TIME] + h
     sp, sp_rate = evaluate_drive(drive_t, drive_x, t1, ws.ship)
     _winch_step(opt, st, h, sp, sp_rate, am, af, gamma, beta)
     scale = (1.0 - af) / (1.0 - am)
@@ -354,7 +365,7 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
     if not reused:
         st.jac[JAC_SKIP] = max(st.jac[JAC_SKIP] - 1.0, 0.0)
         if not _factorize(model, opt, st, ws, t1, h, am, af, gamma, beta):
-            return 1
+            return STEP_NOT_CONVERGED
     eta = max(st.jac[JAC_ETA], 1e-4) ** 0.8
     prev = 0.0
     theta = 0.0  # contraction rate of the current factorisation (0: not measured yet)
@@ -400,7 +411,7 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
                 st.jac[JAC_SKIP] = st.jac[JAC_BACKOFF]
                 reused = False
                 if not _factorize(model, opt, st, ws, t1, h, am, af, gamma, beta):
-                    return 1
+                    return STEP_NOT_CONVERGED
                 since = 0
                 theta = 0.0
                 eta = 1.0
@@ -410,7 +421,7 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
         prev = dnorm
         since += 1
     if not converged:
-        return 1
+        return STEP_NOT_CONVERGED
     st.jac[JAC_ETA] = eta
     st.jac[JAC_AGE] += 1.0
     if reused:
@@ -425,11 +436,11 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
         k = model.free_dofs[i]
         e = c * abs(st.abar[k] - ws.abar0[k]) / (opt.atol + opt.rtol * abs(st.q[k]))
         err = max(err, e)
-    st.clock[2] = err
+    st.clock[CLOCK_ERROR] = err
     if opt.adaptive and err > 1.0:
-        return 2
-    st.clock[0] = t1
-    return 0
+        return STEP_ERROR_TOO_LARGE
+    st.clock[CLOCK_TIME] = t1
+    return STEP_ACCEPTED
 
 
 @njit(cache=True, inline="always")
@@ -468,12 +479,12 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
     am, af, gamma, beta = scheme_coefficients(opt.rho_inf)
     phi0 = np.empty(4)
     while True:
-        t = st.clock[0]
+        t = st.clock[CLOCK_TIME]
         remaining = t_end - t
         if remaining <= 1e-12 * max(1.0, abs(t_end)):
-            st.clock[0] = t_end
+            st.clock[CLOCK_TIME] = t_end
             return OK
-        h = min(st.clock[1], opt.h_max)
+        h = min(st.clock[CLOCK_STEP], opt.h_max)
         nrem = math.ceil(remaining / h - 1e-9)
         h_try = remaining / nrem
         ws.q0[:] = st.q
@@ -483,35 +494,35 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
         phi0[:] = st.phi
         for attempt in range(2):  # (one call site of the inlined _try_step)
             status = _try_step(model, opt, st, ws, h_try, drive_t, drive_x, am, af, gamma, beta)
-            if attempt == 1 or not (status == 1 and st.jac[JAC_AGE] > 0.0):
+            if attempt == 1 or not (status == STEP_NOT_CONVERGED and st.jac[JAC_AGE] > 0.0):
                 break
             # stale Jacobian: retry the same step with a fresh one
             _restore(st, ws, phi0)
             st.jac[JAC_VALID] = 0.0
             st.jac[JAC_ETA] = 1.0
-        if status == 0:
+        if status == STEP_ACCEPTED:
             st.stats[STAT_STEPS] += 1
-            st.clock[3] += 1.0
+            st.clock[CLOCK_STEPS_SINCE_CUT] += 1.0
             if opt.adaptive:
-                err = st.clock[2]
+                err = st.clock[CLOCK_ERROR]
                 factor = 0.9 * max(err, 1e-10) ** (-1.0 / 3.0)
-                st.clock[1] = min(opt.h_max, h_try * min(2.0, max(0.5, factor)))
-                if nrem > 1 and st.clock[1] > h_try and st.clock[1] < 1.2 * h_try:
-                    st.clock[1] = h_try  # avoid re-factorising for a marginal gain
-            elif st.clock[3] >= 8.0 and st.clock[1] < opt.h_max:
+                st.clock[CLOCK_STEP] = min(opt.h_max, h_try * min(2.0, max(0.5, factor)))
+                if nrem > 1 and st.clock[CLOCK_STEP] > h_try and st.clock[CLOCK_STEP] < 1.2 * h_try:
+                    st.clock[CLOCK_STEP] = h_try  # avoid re-factorising for a marginal gain
+            elif st.clock[CLOCK_STEPS_SINCE_CUT] >= 8.0 and st.clock[CLOCK_STEP] < opt.h_max:
                 # fixed-step mode after a cut: return to the nominal step by doublings
-                st.clock[1] = min(opt.h_max, 2.0 * st.clock[1])
-                st.clock[3] = 0.0
+                st.clock[CLOCK_STEP] = min(opt.h_max, 2.0 * st.clock[CLOCK_STEP])
+                st.clock[CLOCK_STEPS_SINCE_CUT] = 0.0
             continue
         _restore(st, ws, phi0)
         st.stats[STAT_REJECTED] += 1
-        st.clock[3] = 0.0
-        if status == 2:
-            factor = 0.9 * st.clock[2] ** (-1.0 / 3.0)
+        st.clock[CLOCK_STEPS_SINCE_CUT] = 0.0
+        if status == STEP_ERROR_TOO_LARGE:
+            factor = 0.9 * st.clock[CLOCK_ERROR] ** (-1.0 / 3.0)
             h_new = h_try * min(0.9, max(0.2, factor))
         else:
             h_new = 0.5 * h_try
             st.jac[JAC_ETA] = 1.0
         if h_new < opt.h_min:
             return FAILED_MIN_STEP
-        st.clock[1] = h_new
+        st.clock[CLOCK_STEP] = h_new

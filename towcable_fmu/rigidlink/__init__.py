@@ -1,4 +1,4 @@
-"""Rigid-link tug-tow model (Gomes & Gomes 2021, shared/reference/gomes2021-towing-cable-rigid-links.md).
+"""Rigid-link tug-tow model (Gomes & Gomes 2021: "A new dynamic model of towing cables").
 
 A tug and a towed vessel joined by ``n`` rigid links with elastic, damped joints, in
 the vertical plane. One concept per module: :mod:`.scene` (the scene tables),

@@ -75,6 +75,9 @@ class RigidLinkSimulation:
         """Cable length n l [m]."""
         return float(self.l.sum())
 
+    #: The outputs of this model, ``time`` first: the columns of :meth:`run`.
+    output_names = SERIES
+
     def unit_of(self, name: str) -> str:
         """Unit of an output name (the contract's, or this model's own)."""
         return EXTRA_UNITS.get(name) or contract.unit_of(name)

@@ -46,7 +46,7 @@ class Segment:
                                           doc="constant common drag coefficient C_D; default: C_D(Re) of W(61)-(63)")
     drag_amplification: float = spec(1.0, unit="-", ge=0.0, le=10.0,
                                      doc="G of W(64): the mean (steady) drag is G times the steady drag "
-                                         "(1: no amplification; DESIGN.md)")
+                                         "(1: no amplification; docs/design.md)")
     added_mass_coefficient: float = spec(1.0, unit="-", ge=0.0, le=10.0,
                                          doc="C_m: added mass acts normal to the cable only, W(66)-(75)")
     fluid_loads: bool = spec(True, doc="false: the segment carries no fluid loads at all (drag, buoyancy, added "

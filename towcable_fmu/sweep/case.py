@@ -64,15 +64,15 @@ class CaseResult:
 def simulate(case: Case, fmus: Mapping[str, Path] | None = None) -> dict[str, np.ndarray]:
     """The case's output series (contract names, ``time`` first).
 
-    Scene mode runs :class:`~towcable_fmu.simulation.Simulation` (the scene's own ship
-    motion and compensation); cosim mode runs the three FMUs with the overridden scene's
+    Scene mode runs the scene's own simulation (:func:`towcable_fmu.models.simulation_from`:
+    ANCF, nodal-position or rigid-link, with the scene's ship motion and compensation); cosim mode runs the three FMUs with the overridden scene's
     ``[motion]`` table given to ShipMotion.
     """
     s = case.settings
     if s.mode == "scene":
-        from ..simulation import Simulation
+        from ..models import simulation_from
 
-        return Simulation.from_scene(s.scene, case.overrides).run(s.duration, interval=s.interval)
+        return simulation_from(s.scene, case.overrides).run(s.duration, interval=s.interval)
     from ..cosim import CosimConfig, format_overrides, run_cosim
     from ..scene import load_scene
 
@@ -144,12 +144,12 @@ def warm_up(case: Case) -> float:
     start = time.perf_counter()
     try:
         if case.settings.mode == "scene":
-            from ..simulation import Simulation
+            from ..models import simulation_from
 
             for overrides in (case.overrides, ()):
                 try:
-                    Simulation.from_scene(case.settings.scene, overrides).run(case.settings.interval,
-                                                                              interval=case.settings.interval)
+                    simulation_from(case.settings.scene, overrides).run(case.settings.interval,
+                                                                        interval=case.settings.interval)
                     break
                 except Exception:  # noqa: BLE001 - an invalid case: warm up with the base scene
                     continue

@@ -3,7 +3,7 @@
 A sweep file has three tables::
 
     [sweep]
-    mode = "scene"            # "scene": the Simulation (fast); "cosim": the three FMUs
+    mode = "scene"            # "scene": the scene's simulation (fast); "cosim": the three FMUs
     scene = "full_scale"      # built-in name or TOML file (relative to the sweep file)
     duration = 120.0          # simulated time per case [s]
     settle = 20.0             # start-up time left out of the statistics [s]
@@ -11,7 +11,7 @@ A sweep file has three tables::
     output = "out/sweep"      # results folder (relative to the current directory)
     table = "results.csv"     # results table in that folder: .csv, or .parquet (needs pyarrow)
     series = false            # also write each case's time series (series/<case_id>.csv)
-    statistics = ["tension.sheave.max", ...]   # default: all of STATISTICS
+    statistics = ["tension.sheave.max", "tension.top.p99", ...]   # default: DEFAULT_STATISTICS
 
     [fixed]                   # overrides applied to every case (dotted scene keys or aliases)
     "solver.time_step" = 0.02
@@ -37,10 +37,10 @@ import json
 import math
 import tomllib
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Callable, Iterable, Mapping
 
 from ..errors import SceneError
-from .statistics import STATISTICS
+from .statistics import DEFAULT_STATISTICS, DERIVED, statistic
 
 #: Short parameter names -> the scene keys they set (``{n}``: every cable segment).
 ALIASES: dict[str, tuple[str, ...]] = {
@@ -72,8 +72,8 @@ class RunSettings:
     Attributes
     ----------
     mode
-        ``"scene"`` (:class:`towcable_fmu.simulation.Simulation`, the scene's own motion and
-        compensation) or ``"cosim"`` (:func:`towcable_fmu.cosim.run_cosim`, three FMUs).
+        ``"scene"`` (the scene's own simulation, :func:`towcable_fmu.models.simulation_from`:
+        its own motion and compensation) or ``"cosim"`` (:func:`towcable_fmu.cosim.run_cosim`, three FMUs).
     scene
         Built-in scene name or absolute path of a scene file.
     duration
@@ -141,7 +141,9 @@ class SweepSpec:
     parameters
         Swept name -> list of values (ranges expanded), in file order.
     statistics
-        Statistic names (:data:`~towcable_fmu.sweep.statistics.STATISTICS`).
+        Statistic names (:func:`~towcable_fmu.sweep.statistics.statistic`).
+    units
+        Statistic name -> unit of its value.
     output
         Results folder.
     series
@@ -157,6 +159,7 @@ class SweepSpec:
     fixed: dict[str, Any]
     parameters: dict[str, list[Any]]
     statistics: tuple[str, ...]
+    units: dict[str, str]
     output: Path
     series: bool
     source: Path | None = None
@@ -164,7 +167,7 @@ class SweepSpec:
 
     def cases(self) -> list[Case]:
         """Every combination of the swept values (the first parameter varies slowest)."""
-        segments = _segment_count(self.settings.scene)
+        segments = _segment_count(self.settings.scene) if _sets_every_segment([*self.fixed, *self.parameters]) else 0
         fixed = expand_overrides(self.fixed, segments)
         names = list(self.parameters)
         cases = []
@@ -212,10 +215,72 @@ def expand_overrides(values: Mapping[str, Any], segments: int) -> list[tuple[str
     return out
 
 
+def _sets_every_segment(names: Iterable[str]) -> bool:
+    """Whether one of the parameter names is an alias of a key of every cable segment (``{n}``)."""
+    return any("{n}" in key for name in names for key in ALIASES.get(name, ()))
+
+
 def _segment_count(scene: str) -> int:
     from ..scene import load_scene
 
     return len(load_scene(scene).cable.segments)
+
+
+def _check_segment_aliases(scene: str, names: Iterable[str], where: str) -> None:
+    """An alias of every cable segment's key needs a scene whose cable has segments."""
+    from ..scene import load_scene
+
+    for name in names:
+        if _sets_every_segment([name]) and not hasattr(load_scene(scene).cable, "segments"):
+            raise SpecError(f"{where}.{name}", name, "a parameter of this scene: its cable has no segments "
+                                                     f"(the alias sets {ALIASES[name][0]})")
+
+
+def scene_signals(settings: RunSettings, fixed: Mapping[str, Any]) -> tuple[tuple[str, ...], Callable[[str], str]]:
+    """The output signals a case's series will have, and their units.
+
+    Scene mode: the outputs of the scene's simulation (with the fixed overrides, or
+    without them if the scene refuses them: that case fails on its own). Cosim mode: every
+    output of the three FMUs.
+    """
+    from .. import contract
+
+    if settings.mode == "cosim":
+        names = ["time"] + [v.name for f in contract.fmus().values() for v in f.outputs if not v.diagnostic]
+        return tuple(dict.fromkeys(names)), contract.unit_of
+    from ..models import simulation_from
+
+    segments = _segment_count(settings.scene) if _sets_every_segment(fixed) else 0
+    try:
+        sim = simulation_from(settings.scene, expand_overrides(fixed, segments))
+    except SceneError:
+        sim = simulation_from(settings.scene)
+    return tuple(sim.output_names), sim.unit_of
+
+
+def _checked_statistics(names: Any, settings: RunSettings, signals: tuple[str, ...]) -> tuple[str, ...]:
+    """The spec's statistic names, each of a signal the scene has (default: those of
+    :data:`~towcable_fmu.sweep.statistics.DEFAULT_STATISTICS` it has signals for)."""
+    if names is None:
+        return tuple(n for n in DEFAULT_STATISTICS if all(s in signals for s in statistic(n).signals))
+    if not isinstance(names, list) or not names:
+        raise SpecError("sweep.statistics", names, "a non-empty list of statistic names")
+    allowed = ("SIGNAL.max, .min, .mean, .std or .pNN (e.g. tension.sheave.max, tension.top.p99) or one of "
+               + ", ".join(DERIVED) + f", of the signals {settings.scene} has in {settings.mode} mode: "
+               + ", ".join(s for s in signals if s != "time"))
+    for i, name in enumerate(names):
+        try:
+            stat = statistic(name) if isinstance(name, str) else None
+        except ValueError:
+            stat = None
+        if stat is None:
+            raise SpecError(f"sweep.statistics[{i}]", name, allowed)
+        missing = [s for s in stat.signals if s not in signals]
+        if missing:
+            raise SpecError(f"sweep.statistics[{i}]", name, f"(no signal {', '.join(missing)}) " + allowed)
+    if len(set(names)) != len(names):
+        raise SpecError("sweep.statistics", names, "distinct names")
+    return tuple(names)
 
 
 # ---------------------------------------------------------------------------- loading
@@ -276,14 +341,6 @@ def spec_from_table(doc: Mapping[str, Any], base_dir: Path = Path("."), source: 
     fmu_dir = sweep.get("fmu_dir", "fmus")
     if not isinstance(fmu_dir, str):
         raise SpecError("sweep.fmu_dir", fmu_dir, "a folder name")
-    stats = sweep.get("statistics", list(STATISTICS))
-    if not isinstance(stats, list) or not stats:
-        raise SpecError("sweep.statistics", stats, "a non-empty list of statistic names")
-    for i, name in enumerate(stats):
-        if name not in STATISTICS:
-            raise SpecError(f"sweep.statistics[{i}]", name, "one of " + ", ".join(STATISTICS))
-    if len(set(stats)) != len(stats):
-        raise SpecError("sweep.statistics", stats, "distinct names")
 
     fixed = dict(_table(doc, "fixed"))
     for key, value in fixed.items():
@@ -297,7 +354,12 @@ def spec_from_table(doc: Mapping[str, Any], base_dir: Path = Path("."), source: 
         parameters[key] = _values(f"parameters.{key}", raw)
     settings = RunSettings(mode=mode, scene=scene, duration=duration, settle=settle, interval=interval, step=step,
                            fraction=fraction, fmu_dir=fmu_dir)
-    return SweepSpec(settings=settings, fixed=fixed, parameters=parameters, statistics=tuple(stats),
+    _check_segment_aliases(scene, fixed, "fixed")
+    _check_segment_aliases(scene, parameters, "parameters")
+    signals, unit_of = scene_signals(settings, fixed)
+    stats = _checked_statistics(sweep.get("statistics"), settings, signals)
+    units = {n: statistic(n).unit or unit_of(statistic(n).signals[0]) for n in stats}
+    return SweepSpec(settings=settings, fixed=fixed, parameters=parameters, statistics=stats, units=units,
                      output=Path(output), series=series, source=source, table=table_name)
 
 

@@ -1,14 +1,17 @@
 """Per-case statistics of a sweep, computed on the recorded series after the settling time.
 
 Every statistic is a function of the output series (contract names) on the window
-``time >= settle``; a statistic whose signal the scene does not have is NaN (an empty
-cell in the table).
+``time >= settle``: a reduction of any one signal (``tension.top.max``,
+``tension.towbody.p99``, see :func:`statistic`) or one of the :data:`DERIVED` ones
+(``slack.time``, ``ellipsoid.volume``, ...). The sweep's spec refuses a statistic whose
+signal the scene does not have; here such a statistic is NaN (an empty cell in the table).
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from typing import Callable, Mapping
 
 import numpy as np
@@ -24,8 +27,6 @@ class Statistic:
 
     Attributes
     ----------
-    unit
-        Unit of the value.
     text
         What it is.
     signals
@@ -33,16 +34,25 @@ class Statistic:
     compute
         ``compute(series, window, fraction) -> float``; ``series`` restricted to the window
         is passed as the full arrays plus the Boolean mask.
+    unit
+        Unit of the value; None: the unit of its one signal.
     """
 
-    unit: str
     text: str
     signals: tuple[str, ...]
     compute: Callable[[Series, np.ndarray, float], float]
+    unit: str | None = None
 
 
-def _reduce(signal: str, fn: Callable[[np.ndarray], float], text: str, unit: str = "N") -> Statistic:
-    return Statistic(unit, text, (signal,), lambda s, w, f: float(fn(s[signal][w])))
+#: Reductions of one signal over the window: ``SIGNAL.<name>``; ``SIGNAL.pNN`` (NN in
+#: [0, 100], decimals allowed: ``p99``, ``p99.9``) is the NN-th percentile.
+REDUCTIONS: dict[str, tuple[Callable[[np.ndarray], float], str]] = {
+    "max": (np.max, "maximum"),
+    "min": (np.min, "minimum"),
+    "mean": (np.mean, "mean"),
+    "std": (np.std, "standard deviation"),
+}
+_REDUCTION_OF_SIGNAL = re.compile(r"(?P<signal>.+)\.(?:(?P<reduction>max|min|mean|std)|p(?P<percent>\d{1,3}(?:\.\d+)?))")
 
 
 def _time_where(signal: str, predicate: Callable[[np.ndarray], np.ndarray]) -> Callable[[Series, np.ndarray, float], float]:
@@ -61,26 +71,50 @@ def _ellipsoid_volume(s: Series, w: np.ndarray, fraction: float) -> float:
     return enclosing_ellipsoid(points, fraction).volume
 
 
-#: Statistic name -> definition, in table order.
-STATISTICS: dict[str, Statistic] = {
-    "tension.sheave.max": _reduce("tension.sheave", np.max, "maximum tension leaving the sheave"),
-    "tension.sheave.min": _reduce("tension.sheave", np.min, "minimum tension leaving the sheave"),
-    "tension.sheave.mean": _reduce("tension.sheave", np.mean, "mean tension leaving the sheave"),
-    "tension.sheave.std": _reduce("tension.sheave", np.std, "standard deviation of the tension leaving the sheave"),
-    "tension.min.min": _reduce("tension.min", np.min, "lowest tension anywhere in the cable (<= 0: slack)"),
-    "slack.time": Statistic("s", "time with a slack cable somewhere (tension.min <= 0)", ("tension.min",),
-                            _time_where("tension.min", lambda v: v <= 0.0)),
-    "contact.sheave_force.max": _reduce("contact.sheave_force", np.max, "peak sheave contact force"),
-    "contact.sheave_force.mean": _reduce("contact.sheave_force", np.mean, "mean sheave contact force"),
-    "contact.detached.time": Statistic("s", "time the cable is out of the sheave groove", ("contact.detached",),
-                                       _time_where("contact.detached", lambda v: v != 0.0)),
-    "contact.wrap_angle.mean": _reduce("contact.wrap_angle", np.mean, "mean wrap angle on the sheave", "rad"),
-    "contact.wrap_angle.min": _reduce("contact.wrap_angle", np.min, "smallest wrap angle on the sheave", "rad"),
-    "towbody.z.std": _reduce("towbody.z", np.std, "standard deviation of the towed-body depth", "m"),
-    "ellipsoid.volume": Statistic("m3", "volume of the ellipsoid holding the given share (0.95) of the "
-                                        "towed-body positions (Calnan's fit)",
-                                  ("towbody.x", "towbody.y", "towbody.z"), _ellipsoid_volume),
+#: Statistics that are not one reduction of one signal, by name.
+DERIVED: dict[str, Statistic] = {
+    "slack.time": Statistic("time with a slack cable somewhere (tension.min <= 0)", ("tension.min",),
+                            _time_where("tension.min", lambda v: v <= 0.0), "s"),
+    "contact.detached.time": Statistic("time the cable is out of the sheave groove", ("contact.detached",),
+                                       _time_where("contact.detached", lambda v: v != 0.0), "s"),
+    "ellipsoid.volume": Statistic("volume of the ellipsoid holding the given share (0.95) of the towed-body "
+                                  "positions (Calnan's fit)", ("towbody.x", "towbody.y", "towbody.z"),
+                                  _ellipsoid_volume, "m3"),
 }
+
+
+def statistic(name: str) -> Statistic:
+    """The statistic of a name: one of :data:`DERIVED`, or ``SIGNAL.REDUCTION`` with a
+    reduction of :data:`REDUCTIONS` or a percentile ``pNN``.
+
+    Raises
+    ------
+    ValueError
+        The name is neither (the message says what is allowed).
+    """
+    if name in DERIVED:
+        return DERIVED[name]
+    match = _REDUCTION_OF_SIGNAL.fullmatch(name)
+    if match and match["reduction"]:
+        signal = match["signal"]
+        fn, text = REDUCTIONS[match["reduction"]]
+        return Statistic(f"{text} of {signal}", (signal,), lambda s, w, f: float(fn(s[signal][w])))
+    if match and float(match["percent"]) <= 100.0:
+        signal, q = match["signal"], float(match["percent"])
+        return Statistic(f"{q:g}th percentile of {signal}", (signal,),
+                         lambda s, w, f: float(np.percentile(s[signal][w], q)))
+    raise ValueError(f"'{name}' is not a statistic: SIGNAL." + ", SIGNAL.".join(REDUCTIONS)
+                     + " or SIGNAL.pNN (a percentile, NN in [0, 100]), or one of " + ", ".join(DERIVED))
+
+
+#: The statistics of a sweep that names none (those the scene has signals for), in table order.
+DEFAULT_STATISTICS = ("tension.sheave.max", "tension.sheave.min", "tension.sheave.mean", "tension.sheave.std",
+                      "tension.min.min", "slack.time", "contact.sheave_force.max", "contact.sheave_force.mean",
+                      "contact.detached.time", "contact.wrap_angle.mean", "contact.wrap_angle.min", "towbody.z.std",
+                      "ellipsoid.volume")
+
+#: Name -> definition of the default statistics.
+STATISTICS: dict[str, Statistic] = {name: statistic(name) for name in DEFAULT_STATISTICS}
 
 
 def compute_statistics(series: Series, names: tuple[str, ...] | list[str], settle: float,
@@ -92,7 +126,7 @@ def compute_statistics(series: Series, names: tuple[str, ...] | list[str], settl
     series
         Output name -> equally spaced samples, with ``time`` [s].
     names
-        Statistic names (keys of :data:`STATISTICS`).
+        Statistic names (see :func:`statistic`).
     settle
         Samples before this time [s] are left out.
     fraction
@@ -106,7 +140,7 @@ def compute_statistics(series: Series, names: tuple[str, ...] | list[str], settl
     window = series["time"] >= settle - 1e-9 * max(1.0, settle)
     out: dict[str, float] = {}
     for name in names:
-        stat = STATISTICS[name]
+        stat = statistic(name)
         if not np.any(window) or any(sig not in series for sig in stat.signals):
             out[name] = math.nan
         else:

@@ -35,7 +35,6 @@ import numpy as np
 
 from .case import CaseResult
 from .spec import Case, SpecError, SweepSpec
-from .statistics import STATISTICS
 
 SETTING_COLUMNS = ("mode", "scene", "duration", "settle", "interval", "step", "fraction")
 
@@ -44,7 +43,7 @@ def header(spec: SweepSpec) -> list[str]:
     """The column names of the table."""
     return (["case_id", "status"] + list(spec.parameters) + list(SETTING_COLUMNS)
             + [f"fixed.{k}" for k in spec.fixed]
-            + [f"{n} [{STATISTICS[n].unit}]" for n in spec.statistics] + ["wall_time [s]", "worker", "error"])
+            + [f"{n} [{spec.units[n]}]" for n in spec.statistics] + ["wall_time [s]", "worker", "error"])
 
 
 def _cell(value: Any) -> str:
@@ -68,7 +67,7 @@ def _row_values(spec: SweepSpec, case: Case, result: CaseResult) -> dict[str, An
                               **{f"fixed.{k}": v for k, v in spec.fixed.items()},
                               "wall_time [s]": result.wall_time, "worker": result.worker,
                               "error": result.error}
-    values.update({f"{n} [{STATISTICS[n].unit}]": result.statistics.get(n, math.nan) for n in case.statistics})
+    values.update({f"{n} [{spec.units[n]}]": result.statistics.get(n, math.nan) for n in case.statistics})
     return values
 
 
@@ -178,7 +177,7 @@ def parquet_schema(spec: SweepSpec):
     types.update({"mode": pa.string(), "scene": pa.string()})
     types.update({name: pa.float64() for name in SETTING_COLUMNS if name not in types})
     types.update({f"fixed.{k}": _arrow_type([v]) for k, v in spec.fixed.items()})
-    types.update({f"{n} [{STATISTICS[n].unit}]": pa.float64() for n in spec.statistics})
+    types.update({f"{n} [{spec.units[n]}]": pa.float64() for n in spec.statistics})
     types.update({"wall_time [s]": pa.float64(), "worker": pa.string(), "error": pa.string()})
     return pa.schema([(name, types[name]) for name in header(spec)])
 

@@ -135,7 +135,3 @@ class WakeCoupling:
         ``v`` at its end (linear in between)."""
         advance_wake(self.w, self.wd, self._yd0, self.cross_flow_velocity(v), h, self.a1, self.a2, self.a3,
                      self.omega, self.diameter)
-
-    def nodal_loads(self) -> np.ndarray:
-        """Force per unit length [N/m] at the wake nodes applied in the last step, shape (m, 3)."""
-        return self._fnode.copy()
