@@ -14,7 +14,8 @@ import pytest
 
 from towcable_fmu import contract
 from towcable_fmu import cli
-from towcable_fmu.cli import Progress, main
+from towcable_fmu.cli import main
+from towcable_fmu.run_io import Progress
 
 G = 9.81
 

@@ -23,7 +23,7 @@ BLOCK = re.compile(r"^```(python|bash)\n(.*?)^```", re.S | re.M)
 
 
 def test_committed_reference_matches_a_fresh_generation(tmp_path):
-    written = write_reference(tmp_path)
+    written = write_reference(tmp_path, build_parser())
     committed = sorted(p.name for p in (DOCS / "reference").glob("*.md"))
     assert committed == sorted(p.name for p in written), f"docs/reference has other files; run `{REGENERATE}`"
     for path in written:
@@ -36,7 +36,7 @@ def test_committed_reference_matches_a_fresh_generation(tmp_path):
 
 
 def test_every_scene_key_has_a_meaning_and_numbers_a_unit():
-    text = render()["scene_keys.md"]
+    text = render(build_parser())["scene_keys.md"]
     for row in describe(Scene):
         assert row["doc"], f"scene key {row['key']} has no description in towcable_fmu/scene/model.py"
         if row["type"] in ("number", "integer") or row["type"].startswith("list of"):
@@ -55,7 +55,7 @@ def test_scene_reference_shows_defaults_and_ranges():
 
 
 def test_every_fmu_variable_is_in_the_reference():
-    text = render()["fmu_variables.md"]
+    text = render(build_parser())["fmu_variables.md"]
     for spec in contract.fmus().values():
         section = text.split(f"## {spec.name}\n", 1)[1].split("\n## ", 1)[0]
         for v in spec.variables:
@@ -65,7 +65,7 @@ def test_every_fmu_variable_is_in_the_reference():
 
 
 def test_every_command_and_option_is_in_the_reference():
-    text = render()["cli.md"]
+    text = render(build_parser())["cli.md"]
     parser = build_parser()
     (sub,) = [a for a in parser._actions if a.dest == "command"]
     for name, command in sub.choices.items():
@@ -159,7 +159,7 @@ def test_every_motion_compensation_and_rigid_link_key_is_in_the_reference():
     from towcable_fmu.docs_gen import compensation_key_rows, motion_key_rows
     from towcable_fmu.rigidlink.scene import RigidLinkScene
 
-    text = render()["scene_keys.md"]
+    text = render(build_parser())["scene_keys.md"]
     rows = [r for rs in motion_key_rows().values() for r in rs] + compensation_key_rows() + describe(RigidLinkScene)
     for row in rows:
         assert row["doc"], row["key"]

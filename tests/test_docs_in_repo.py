@@ -175,3 +175,28 @@ def test_a_link_to_a_missing_file_or_heading_is_broken(tmp_path):
         "[gone](docs/missing.md) [anchor](docs/a.md#nowhere) [out](../elsewhere.md)\n")
     broken = broken_links("README.md", ["README.md", "docs/a.md"], root=tmp_path)
     assert [b.split(":")[0] for b in broken] == ["docs/missing.md", "docs/a.md#nowhere", "../elsewhere.md"]
+
+
+#: A path of a project file quoted in the docs (``towcable_fmu/cosim/loop.py``).
+_PROJECT_PATH = re.compile(r"\b(?:towcable_fmu|ship_motion|controllers|tests|benchmarks|docs)/[A-Za-z0-9_./-]*"
+                           r"[A-Za-z0-9_]\.(?:py|toml|md|json|csv)\b")
+
+
+def quoted_paths(text: str) -> set[str]:
+    """Project file paths a Markdown text names (in prose or code spans)."""
+    return set(_PROJECT_PATH.findall(text))
+
+
+def test_every_project_file_the_docs_name_exists():
+    """A module moved or renamed must take its mentions in the README and docs/ along."""
+    sources = ["README.md", *sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "docs").rglob("*.md")),
+               "ship_motion/README.md", "controllers/README.md"]
+    missing = sorted((source, path) for source in sources if (ROOT / source).exists()
+                     for path in quoted_paths((ROOT / source).read_text(encoding="utf-8"))
+                     if not (ROOT / path).exists() and "<" not in path)
+    assert missing == []
+
+
+def test_quoted_paths_are_found():
+    text = "The loop (`towcable_fmu/cosim/loop.py`) and tests/test_layers.py; not towcable_fmu/ alone."
+    assert quoted_paths(text) == {"towcable_fmu/cosim/loop.py", "tests/test_layers.py"}

@@ -319,7 +319,7 @@ def test_fmpy_in_a_fresh_venv_runs_towcable_on_full_scale_as_the_master_does(fmu
     master = run_cosim(config, fmus=fmu_paths, echo=False)
     spec = contract.fmu("TowCable")
     inputs = {"time": master.series["time"]} | {n: master.series[n] for n in spec.names("input")}
-    # the cable was initialised with the nominal set-point (the master's order, see cosim.py)
+    # the cable was initialised with the nominal set-point (the master's order, see towcable_fmu/cosim)
     inputs["winch.phi_sp"] = inputs["winch.phi_sp"].copy()
     inputs["winch.phi_sp_rate"] = inputs["winch.phi_sp_rate"].copy()
     inputs["winch.phi_sp"][0] = master.geometry["phi_nom"]

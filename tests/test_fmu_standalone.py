@@ -193,7 +193,7 @@ def test_ecos_runs_the_ssp_of_standalone_fmus_as_the_master_does(standalone_path
     file of a master run (full_scale in regular waves) and gives the master's numbers.
 
     ecos exchanges values after all components stepped (the master feeds the set-point
-    within the step, see cosim.py); without compensation the set-point is constant, so
+    within the step, see towcable_fmu/cosim); without compensation the set-point is constant, so
     both see the same inputs. ecos writes 6 decimals."""
     from towcable_fmu.cosim import CosimConfig, run_cosim
     from towcable_fmu.fmi.ssp import PARAMETER_SET, write_ssp

@@ -1,4 +1,4 @@
-"""The rigid 6-DOF towed body (towcable_fmu/nodal/rigid_body.py) on the nodal-position
+"""The rigid 6-DOF towed body (towcable_fmu/rigid_body.py) on the nodal-position
 cable, and on the ANCF cable (towcable_fmu/ancf/system.py, joined by a stiff link).
 
 Each test compares with a closed form or an independent computation:

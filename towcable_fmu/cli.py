@@ -7,7 +7,6 @@ printed is in SI units.
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import math
 import sys
@@ -18,46 +17,8 @@ from typing import Sequence
 from . import contract, kernel_cache
 from .errors import TowcableError
 from .models import model_kind, simulation_for
+from .run_io import Progress, write_csv
 from .scene import builtin_scene_names, load_scene, parse_override
-
-
-class Progress:
-    """Prints progress of a long run to stderr, at most every ``every`` seconds of wall time.
-
-    The clock starts at the first report (the run's start time), so the rate and the
-    remaining time are those of the run, not of the set-up or the kernels' compiling
-    before it. Silent for runs that finish within ``every`` seconds.
-    """
-
-    def __init__(self, every: float = 2.0, stream=sys.stderr) -> None:
-        self.every = every
-        self.stream = stream
-        self.start: float | None = None
-        self.last = 0.0
-        self.t_start = 0.0
-
-    def __call__(self, t: float, t_end: float) -> None:
-        now = time.perf_counter()
-        if self.start is None:  # the run's start: nothing done yet to report
-            self.start, self.last, self.t_start = now, now, t
-            return
-        if now - self.last < self.every and t < t_end:
-            return
-        if now - self.start < self.every:
-            return
-        self.last = now
-        elapsed = now - self.start
-        done = t - self.t_start
-        total = t_end - self.t_start
-        share = 100.0 * done / total if total > 0 else 100.0
-        rate = done / elapsed
-        eta = (total - done) / rate if rate > 0 else float("nan")
-        eta_text = f"{eta:6.1f} s" if math.isfinite(eta) else "    -- s"
-        self.stream.write(f"\r  t = {t:9.2f} / {t_end:.2f} s  ({share:5.1f} %)  "
-                          f"{rate:7.1f} x real time  ETA {eta_text}")
-        if t >= t_end:
-            self.stream.write("\n")
-        self.stream.flush()
 
 
 def _overrides(values: Sequence[str] | None) -> list[tuple[str, object]]:
@@ -113,17 +74,6 @@ def _plot_contact(sim, out: dict, path: Path, label: str) -> None:
     plot_contact_distribution(sim.contact_state()["distribution"], path, references,
                               title=f"{scene.title}: contact in statics")
     print(f"wrote {path}", file=sys.stderr)
-
-
-def write_csv(path: Path, series: dict) -> None:
-    """Write output series as CSV; the header row holds the contract names."""
-    names = list(series)
-    n = len(series[names[0]])
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(names)
-        for i in range(n):
-            writer.writerow([f"{float(series[k][i]):.10g}" for k in names])
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -206,7 +156,7 @@ def cmd_docs(args: argparse.Namespace) -> int:
     """Write the reference documentation (scene keys, FMU variables, command line)."""
     from .docs_gen import write_reference
 
-    for path in write_reference(Path(args.output)):
+    for path in write_reference(Path(args.output), build_parser()):
         print(f"wrote {path}", file=sys.stderr)
     return 0
 

@@ -9,15 +9,13 @@ ranges tests/test_docs.py checks against those validators), every FMU variable a
 connection (from the variable contract, :mod:`towcable_fmu.contract`), and the command
 line (from the argument parser of :mod:`towcable_fmu.cli`).
 
-Regenerate with ``towcable docs --output docs/reference`` or
-``python -m towcable_fmu.docs_gen --output docs/reference``; a test compares the
-committed files with a fresh generation.
+Regenerate with ``towcable docs --output docs/reference``; a test compares the committed
+files with a fresh generation.
 """
 
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 from typing import Iterable, Sequence
 
@@ -450,12 +448,8 @@ def _command_section(name: str, summary: str, parser: argparse.ArgumentParser) -
                           ((_argument(a), _values(a), _default(a), _help(a, parser.prog)) for a in actions))
 
 
-def cli_markdown(parser: argparse.ArgumentParser | None = None) -> str:
-    """Every subcommand with its arguments, from the argument parser."""
-    if parser is None:
-        from .cli import build_parser
-
-        parser = build_parser()
+def cli_markdown(parser: argparse.ArgumentParser) -> str:
+    """Every subcommand with its arguments, from the command line's argument parser."""
     lines = _header("Command line", "the argument parser (towcable_fmu/cli.py)")
     lines += [_cell(parser.description), "", f"`{parser.prog} COMMAND --help` prints the same information.", ""]
     (sub,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
@@ -468,32 +462,19 @@ def cli_markdown(parser: argparse.ArgumentParser | None = None) -> str:
 
 
 # ------------------------------------------------------------------ files
-def render() -> dict[str, str]:
-    """File name -> Markdown text of the whole reference."""
+def render(parser: argparse.ArgumentParser) -> dict[str, str]:
+    """File name -> Markdown text of the whole reference; ``parser`` is the command line's
+    (:func:`towcable_fmu.cli.build_parser`: the command line calls this, not the other way)."""
     return {"scene_keys.md": scene_keys_markdown(), "fmu_variables.md": fmu_variables_markdown(),
-            "cli.md": cli_markdown()}
+            "cli.md": cli_markdown(parser)}
 
 
-def write_reference(output: Path) -> list[Path]:
+def write_reference(output: Path, parser: argparse.ArgumentParser) -> list[Path]:
     """Write the reference into the folder ``output`` (created); return the files written."""
     output.mkdir(parents=True, exist_ok=True)
     paths = []
-    for name, text in render().items():
+    for name, text in render(parser).items():
         path = output / name
         path.write_text(text, encoding="utf-8")
         paths.append(path)
     return paths
-
-
-def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m towcable_fmu.docs_gen [--output DIR]``."""
-    parser = argparse.ArgumentParser(prog="python -m towcable_fmu.docs_gen", description=__doc__.splitlines()[0])
-    parser.add_argument("--output", default="docs/reference", help="folder to write (default docs/reference)")
-    args = parser.parse_args(argv)
-    for path in write_reference(Path(args.output)):
-        print(f"wrote {path}", file=sys.stderr)
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

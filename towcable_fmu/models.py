@@ -9,6 +9,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
+from .protocol import CableSimulation
+
 
 def model_kind(scene: Any) -> str:
     """``"rigid_link"``, ``"nodal_position"`` or ``"ancf"``: the model a loaded scene asks for."""
@@ -17,7 +19,8 @@ def model_kind(scene: Any) -> str:
     return scene.cable.formulation
 
 
-def simulation_from(name_or_path: str | Path, overrides: Mapping[str, Any] | Iterable[tuple[str, Any]] = ()):
+def simulation_from(name_or_path: str | Path,
+                    overrides: Mapping[str, Any] | Iterable[tuple[str, Any]] = ()) -> CableSimulation:
     """A new, uninitialised simulation of a built-in scene (by name) or a scene file, with
     dotted-key overrides (see :func:`simulation_for`)."""
     from .scene import load_scene
@@ -25,14 +28,13 @@ def simulation_from(name_or_path: str | Path, overrides: Mapping[str, Any] | Ite
     return simulation_for(load_scene(name_or_path, overrides))
 
 
-def simulation_for(scene: Any):
+def simulation_for(scene: Any) -> CableSimulation:
     """A new, uninitialised simulation of a loaded scene (see :func:`model_kind`).
 
     Returns
     -------
     Simulation, NodalSimulation or RigidLinkSimulation
-        All three offer ``initialize``, ``step``, ``run``, ``outputs``, ``output_names``,
-        ``unit_of``, ``statistics``, ``get_state`` and ``set_state``.
+        Each a :class:`~towcable_fmu.protocol.CableSimulation`.
     """
     kind = model_kind(scene)
     if kind == "rigid_link":

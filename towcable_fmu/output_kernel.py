@@ -21,7 +21,7 @@ from .contact.cable import surface_summary
 from .contact.surfaces import SHEAVE, WINCH
 from .hydro.towbody import body_force
 from .kinematics import rotation_matrix
-from .nodal.rigid_body import angular_kinematics, tow_point_state
+from .rigid_body import angular_kinematics, tow_point_state
 from .numerics.genalpha import CLOCK_TIME
 from .numerics.genalpha import advance as genalpha_advance
 

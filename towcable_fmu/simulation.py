@@ -23,13 +23,14 @@ from .contact.cable import surface_summary
 from .output_kernel import OUTPUT_FIELDS, OutputLayout, advance_recording
 from .errors import SceneError, SolverError
 from .kinematics import rotation_matrix
-from .nodal.rigid_body import ROW_TOW, angular_kinematics, rotation, tow_point_state
+from .rigid_body import ROW_TOW, angular_kinematics, rotation, tow_point_state
 from .hydro.turbulence import TurbulenceSeries
 from .numerics import genalpha
 from .numerics.statics import StaticsResult, solve_statics
 from .scene import load_scene
 from .scene.model import Scene
 from .sampling import output_interval, sample_times
+from .ship_input import check_ship_state, motion_source
 
 #: Outputs of a scene with a rigid load held by the cable (``[load]``), see :meth:`Simulation._load_outputs`.
 LOAD_OUTPUTS = ("tension.load", "load.angle", "energy.load")
@@ -40,15 +41,6 @@ _NO_OUTPUTS = np.zeros(0, dtype=np.intp)
 _NO_ROWS = np.empty((1, 0))
 _ALL_OUTPUTS = np.arange(len(OUTPUT_FIELDS), dtype=np.intp)
 _NO_DRIVE = (np.zeros(1), np.zeros((1, 3, 7)))
-
-
-def _motion_source(scene: Scene):
-    from ship_motion import StillShip, motion_from_config
-
-    if scene.motion is None:
-        return StillShip()
-    base = Path(scene.base_dir) if scene.base_dir else None
-    return motion_from_config(scene.motion, key="motion", base_dir=base)
 
 
 def compensation_config(scene: Scene, theta_nom: float):
@@ -81,16 +73,6 @@ def solver_options(scene: Scene) -> genalpha.SolverOptions:
                                   winch_kp=0.0 if w is None else w.kp, winch_kd=0.0 if w is None else w.kd)
 
 
-def check_ship_state(ship: np.ndarray) -> None:
-    """Raise a SceneError naming the entry unless ``ship`` is a finite (3, 6) array
-    (value, rate, acceleration of x, y, z [m], roll, pitch, yaw [rad])."""
-    if ship.shape != (3, 6):
-        raise SceneError("ship", f"array of shape {ship.shape}", "an array of shape (3, 6)")
-    if not np.all(np.isfinite(ship)):
-        bad = np.argwhere(~np.isfinite(ship))[0]
-        raise SceneError(f"ship[{bad[0]}, {bad[1]}]", float(ship[bad[0], bad[1]]), "a finite number")
-
-
 class Simulation:
     """One towed-cable system in time.
 
@@ -115,7 +97,7 @@ class Simulation:
         self.mesh: Mesh = build_mesh(scene)
         self.model: CableModel = build_model(scene, self.mesh)
         self.options = solver_options(scene)
-        self.motion = _motion_source(scene)
+        self.motion = motion_source(scene)
         self.compensation = None  # the set-point algorithm, built at initialisation
         if scene.compensation is not None:
             compensation_config(scene, 0.0)  # validate the table now, before any computation

@@ -196,7 +196,7 @@ def run_study(algorithms: Sequence[str] = DEFAULT_ALGORITHMS, duration: float = 
         No algorithm, a repeated algorithm, ``settle`` outside [0, duration) or
         ``fraction`` outside (0, 1].
     """
-    from ..cli import Progress
+    from ..run_io import Progress
     from ..cosim import CosimConfig, run_cosim
 
     if not algorithms or len(set(algorithms)) != len(algorithms):

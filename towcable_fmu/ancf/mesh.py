@@ -13,10 +13,9 @@ import numpy as np
 
 from ..hydro.cable import CableHydro
 from ..hydro.loading import LOADINGS
-from ..hydro.towbody import BodyHydro, no_body
-from ..hydro.water import CURRENT_KINDS, WaterModel, dry_water
-from ..nodal.rigid_body import NDOF as RIGID_NDOF
-from ..nodal.rigid_body import ROW_TOW, build_rigid_body
+from ..hydro.scene_data import build_body, build_water
+from ..rigid_body import NDOF as RIGID_NDOF
+from ..rigid_body import ROW_TOW, build_rigid_body
 from ..scene.model import End, Scene
 from . import element
 from ..contact.surfaces import CYLINDER, RIM, SHEAVE, WALL_MINUS, WALL_PLUS, WINCH, ContactModel, no_contact
@@ -262,16 +261,6 @@ def build_contact(scene: Scene) -> ContactModel:
         np.array([f[9].damping for f in faces]), np.zeros(1, dtype=np.int64))
 
 
-def build_water(scene: Scene) -> WaterModel:
-    """Water data for the kernels (no turbulence table yet: the simulation attaches it)."""
-    w = scene.water
-    if w is None:
-        return dry_water()
-    return WaterModel(True, w.density, w.viscosity, w.surface_z, scene.environment.gravity,
-                      CURRENT_KINDS[w.current.type], np.array(w.current.velocity, dtype=float),
-                      np.array(w.current.gradient, dtype=float), 0.0, 1.0, np.zeros((0, 3)))
-
-
 def build_cable_hydro(scene: Scene, mesh: Mesh, wet: bool) -> CableHydro:
     """Per-element hydrodynamic properties (all elements off in a dry scene)."""
     props = [scene.cable.segments[i] for i in mesh.segment_of_element]
@@ -286,22 +275,3 @@ def build_cable_hydro(scene: Scene, mesh: Mesh, wet: bool) -> CableHydro:
         el_npts=np.array([p.integration_points for p in props], dtype=np.int64),
         calls=np.zeros(1, dtype=np.int64),
     )
-
-
-def build_body(scene: Scene, index: int) -> BodyHydro:
-    """Towed-body data (disabled without a body or without water)."""
-    body, w = scene.towbody, scene.water
-    if body is None or w is None or body.model == "rigid":  # a rigid body has its own kernel
-        return no_body()
-    volume = scene.towbody_volume()
-    cm = np.array(body.added_mass_coefficient, dtype=float)
-    cda = np.zeros(3)
-    for part in body.parts:
-        cda += np.array(part.area) * np.array(part.drag_coefficient)
-    lift_k, lift_dir, lift_axis = 0.0, np.zeros(3), np.array([1.0, 0.0, 0.0])
-    if body.lift is not None:
-        lift_k = 0.5 * w.density * body.lift.area * body.lift.coefficient
-        lift_dir = np.array(body.lift.direction, dtype=float) / np.linalg.norm(body.lift.direction)
-        lift_axis = np.array(body.lift.axis, dtype=float) / np.linalg.norm(body.lift.axis)
-    return BodyHydro(True, index, volume, w.density * volume * cm, w.density * volume * (cm + 1.0), cda,
-                     lift_k, lift_dir, lift_axis, np.zeros(1, dtype=np.int64))

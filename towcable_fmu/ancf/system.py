@@ -14,7 +14,7 @@ coordinates are the reaction forces. Constant element matrices are Kronecker pro
 
 Extra coordinates follow the cable's: a rigid load's centre of inertia (3, W(138)-(139)),
 or a rigid 6-DOF towed body's CG and roll, pitch, yaw (6, the kernel of
-:mod:`towcable_fmu.nodal.rigid_body`). The body hangs from the last node by a stiff
+:mod:`towcable_fmu.rigid_body`). The body hangs from the last node by a stiff
 spring-damper link to its tow point (the ANCF node keeps its slope coordinates free:
 the joint is spherical); see :func:`_rigid_rows` and ``RIGID_LINK_FACTOR`` in
 :mod:`towcable_fmu.ancf.mesh`.
@@ -34,7 +34,7 @@ from ..hydro import towbody as body_hydro
 from ..hydro.cable import CableHydro
 from ..hydro.towbody import BodyHydro
 from ..hydro.water import WaterModel
-from ..nodal.rigid_body import RigidBodyModel, attitude_ok, body_residual, tow_point_state
+from ..rigid_body import RigidBodyModel, attitude_ok, body_residual, tow_point_state
 from ..numerics.banded import band_add_block
 from .axial import axial_force, axial_tangent, slope_derivatives
 
@@ -73,7 +73,7 @@ class CableModel(NamedTuple):
     load_mass: np.ndarray       #: (3,) entries m_PP, m_PI, m_II of the load mass matrix W(138) [kg]
     load_k: float               #: k_L, stiffness of the link P-I [N]
     load_length: float          #: L_PI, rest length of the link [m]
-    rigid: RigidBodyModel       #: rigid 6-DOF towed body (``enabled`` False: none), see nodal/rigid_body.py
+    rigid: RigidBodyModel       #: rigid 6-DOF towed body (``enabled`` False: none), see towcable_fmu/rigid_body.py
     rigid_index: int            #: first of the body's six coordinates (CG [m], roll, pitch, yaw [rad])
     rigid_k: float              #: stiffness of the link last node - tow point [N/m]
     rigid_c: float              #: damping of that link [N s/m]
@@ -182,7 +182,7 @@ def _rigid_rows(model: CableModel, zq: np.ndarray, zv: np.ndarray, za: np.ndarra
         Time [s].
     rows
         Output (9,): the link force on the last node's position rows [N], then the six
-        body residuals of :func:`~towcable_fmu.nodal.rigid_body.body_residual` [N, N m].
+        body residuals of :func:`~towcable_fmu.rigid_body.body_residual` [N, N m].
 
     Notes
     -----

@@ -27,11 +27,11 @@ from numba import njit
 
 from ..kinematics import ship_point_kinematics
 from ..numerics.banded import band_lu, band_solve
-from ..numerics.genalpha import evaluate_drive
+from ..drive import evaluate_drive
 from .assembly import bandwidth, cable_residual, expand, iteration_matrix, residual
 from .element import axial_force
 from .model import NodalModel
-from .rigid_body import attitude_ok
+from ..rigid_body import attitude_ok
 
 # fields of the integrator's clock
 CLOCK_TIME = 0  #: time [s]
@@ -40,7 +40,7 @@ CLOCK_STEP = 1  #: current step size [s]
 GENALPHA = 0
 RK4 = 1
 INTEGRATORS = {"genalpha": GENALPHA, "rk4": RK4}
-STAT_NAMES = ("steps", "newton_iterations", "jacobians", "residuals", "rejected_steps")
+STAT_NAMES = ("steps", "newton_iterations", "jacobian_factorisations", "residual_evaluations", "rejected_steps")
 
 
 @njit(cache=True)

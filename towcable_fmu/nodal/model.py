@@ -14,13 +14,13 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..ancf.mesh import build_body, build_water
 from ..errors import SceneError
 from ..hydro.loading import LOADINGS
+from ..hydro.scene_data import build_body, build_water
 from ..hydro.towbody import BodyHydro, no_body
 from ..hydro.water import WaterModel
 from ..scene.model import Scene
-from .rigid_body import NDOF, RigidBodyModel, build_rigid_body
+from ..rigid_body import NDOF, RigidBodyModel, build_rigid_body
 
 
 class NodalModel(NamedTuple):

@@ -23,11 +23,11 @@ from ..errors import SceneError, SolverError
 from ..numerics.genalpha import scheme_coefficients
 from ..scene import load_scene
 from ..scene.model import Scene
-from ..simulation import _motion_source, check_ship_state
+from ..ship_input import check_ship_state, motion_source
 from .integrators import CLOCK_STEP, CLOCK_TIME, INTEGRATORS, STAT_NAMES, accelerations, advance_recording, output_values, prescribe_top
 from .assembly import cable_residual, expand
 from .model import NodalModel, build_nodal_model, n_coordinates
-from .rigid_body import ROW_TOW, angular_kinematics, rotation
+from ..rigid_body import ROW_TOW, angular_kinematics, rotation
 from .statics import solve_statics
 from ..sampling import output_interval, sample_times
 
@@ -62,7 +62,7 @@ class NodalSimulation:
     def __init__(self, scene: Scene) -> None:
         self.scene = scene
         self.model: NodalModel = build_nodal_model(scene)
-        self.motion = _motion_source(scene)
+        self.motion = motion_source(scene)
         self.method = INTEGRATORS[scene.solver.integrator]
         s = scene.solver
         self.coef = np.array(scheme_coefficients(s.rho_inf))

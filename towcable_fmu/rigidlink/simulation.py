@@ -17,6 +17,7 @@ import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK45, Radau
 
 from .. import contract
+from ..protocol import SOLVER_STATISTICS
 from ..errors import SceneError, SolverError
 from .dynamics import accelerations, end_tensions, link_forces, node_kinematics
 from .initial import parabola_angles
@@ -67,7 +68,7 @@ class RigidLinkSimulation:
         self.g = scene.environment.gravity
         self.time = 0.0
         self.y = np.concatenate(([scene.layout.span, scene.layout.height], self.theta0, np.zeros(n + 2)))
-        self._stats = {"solver.steps": 0, "solver.rhs_evaluations": 0, "solver.jacobians": 0}
+        self._stats = {name: 0 for name in SOLVER_STATISTICS}
         self._statics: dict[str, float] = {}
 
     @property
@@ -95,7 +96,11 @@ class RigidLinkSimulation:
                                   thrust, refs, self.g)
         return np.concatenate((y[dim:], qdd))
 
-    def outputs(self, t: float, y: np.ndarray) -> dict[str, float]:
+    def outputs(self) -> dict[str, float]:
+        """Output values at the current state (names: :attr:`output_names`)."""
+        return self._outputs_at(self.time, self.y)
+
+    def _outputs_at(self, t: float, y: np.ndarray) -> dict[str, float]:
         """Output values at time ``t`` [s] for the state ``y = [q, qdot]``."""
         dim = self.l.size + 2
         q, qd = y[:dim], y[dim:]
@@ -137,7 +142,7 @@ class RigidLinkSimulation:
             raise SceneError("t0", t0, "a finite start time [s]")
         self.time = float(t0)
         if not statics:
-            return self.outputs(self.time, self.y)
+            return self.outputs()
         start = time.perf_counter()
         lay = self.scene.layout
         w = self.g * self.scene.cable.mass_per_length
@@ -172,7 +177,7 @@ class RigidLinkSimulation:
         opts = self.scene.solver
         solver = _METHODS[opts.method](self._rhs, t0, self.y, samples[-1], rtol=opts.rtol, atol=opts.atol,
                                        max_step=opts.max_step)
-        rows = [self.outputs(t0, self.y)]
+        rows = [self.outputs()]
         nxt = 1
         last_report = t0
         while nxt <= count:
@@ -184,13 +189,12 @@ class RigidLinkSimulation:
             while nxt <= count and samples[nxt] <= solver.t:
                 dense = dense or solver.dense_output()
                 y = solver.y if samples[nxt] == solver.t else dense(samples[nxt])
-                rows.append(self.outputs(float(samples[nxt]), y))
+                rows.append(self._outputs_at(float(samples[nxt]), y))
                 nxt += 1
             if progress is not None and solver.t - last_report >= 1.0:
                 progress(solver.t, samples[-1])
                 last_report = solver.t
-        self._stats["solver.rhs_evaluations"] += int(solver.nfev)
-        self._stats["solver.jacobians"] += int(solver.njev)
+        self._count(solver)
         self.time, self.y = float(samples[-1]), solver.y.copy()
         if progress is not None:
             progress(self.time, samples[-1])
@@ -224,10 +228,9 @@ class RigidLinkSimulation:
             self._stats["solver.steps"] += 1
         if not np.all(np.isfinite(solver.y)):
             raise SolverError(f"{opts.method} produced non-finite values at t = {t_end:.6g} s")
-        self._stats["solver.rhs_evaluations"] += int(solver.nfev)
-        self._stats["solver.jacobians"] += int(solver.njev)
+        self._count(solver)
         self.time, self.y = float(t_end), solver.y.copy()
-        return self.outputs(self.time, self.y)
+        return self.outputs()
 
     def get_state(self) -> dict[str, Any]:
         """The state (time [s], angles and rates) and counters as JSON-able data."""
@@ -247,6 +250,13 @@ class RigidLinkSimulation:
         self.y = np.asarray(data["y"], dtype=float)
         self._stats = dict(data["stats"])
 
+    def _count(self, solver) -> None:
+        """Add a finished scipy solver's right-hand-side evaluations and LU factorisations."""
+        self._stats["solver.residual_evaluations"] += int(solver.nfev)
+        self._stats["solver.jacobian_factorisations"] += int(getattr(solver, "nlu", 0))
+
     def statistics(self) -> dict[str, float]:
-        """Solver counters since construction, plus the statics result if solved."""
+        """Solver counters since construction (:data:`~towcable_fmu.protocol.SOLVER_STATISTICS`:
+        accepted steps, right-hand-side evaluations, LU factorisations of the implicit
+        methods), plus the statics result if solved."""
         return {**self._stats, **self._statics}

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import copy
 import difflib
+import json
 import re
 import tomllib
 from importlib import resources
@@ -68,6 +69,25 @@ def parse_override(text: str) -> tuple[str, Any]:
     except tomllib.TOMLDecodeError:
         value = raw
     return key, value
+
+
+def format_overrides(items: Iterable[tuple[str, Any]]) -> str:
+    """Overrides as one line of ``key=value; ...`` in TOML syntax (the TowCable FMU's
+    ``overrides`` parameter; :func:`parse_override` reads each item back)."""
+    def toml(value: Any) -> str:
+        if isinstance(value, bool):
+            return "true" if value else "false"
+        if isinstance(value, (int, float)):
+            return repr(value)
+        if isinstance(value, str):
+            return json.dumps(value)
+        if isinstance(value, (list, tuple)):
+            return "[" + ", ".join(toml(v) for v in value) + "]"
+        if isinstance(value, Mapping):
+            return "{" + ", ".join(f"{k} = {toml(v)}" for k, v in value.items()) + "}"
+        raise TypeError(f"cannot write {value!r} as TOML")
+
+    return "; ".join(f"{key}={toml(value)}" for key, value in items)
 
 
 def apply_overrides(table: dict, overrides: Mapping[str, Any] | Iterable[tuple[str, Any]]) -> dict:

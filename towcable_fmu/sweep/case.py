@@ -73,8 +73,8 @@ def simulate(case: Case, fmus: Mapping[str, Path] | None = None) -> dict[str, np
         from ..models import simulation_from
 
         return simulation_from(s.scene, case.overrides).run(s.duration, interval=s.interval)
-    from ..cosim import CosimConfig, format_overrides, run_cosim
-    from ..scene import load_scene
+    from ..cosim import CosimConfig, run_cosim
+    from ..scene import format_overrides, load_scene
 
     scene = load_scene(s.scene, case.overrides)
     motion = None

@@ -53,10 +53,10 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 from numba import njit
 
-from ..hydro.water import WaterModel, flow
+from .hydro.water import WaterModel, flow
 
 if TYPE_CHECKING:
-    from ..scene.model import Scene
+    from .scene.model import Scene
 
 #: Number of body coordinates.
 NDOF = 6

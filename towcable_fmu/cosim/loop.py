@@ -1,6 +1,6 @@
 """The co-simulation master's stepping loop as one compiled kernel.
 
-The master (:mod:`towcable_fmu.cosim`) spends per communication step nine FMI calls
+The master (:mod:`towcable_fmu.cosim.master`) spends per communication step nine FMI calls
 (set, get, step) and the copies between the FMUs' value buffers. Made from Python,
 each FMI call goes through ctypes (argument conversion, the GIL released and taken
 back) and the copies through numpy's indexing; together that was as much time as the
@@ -18,7 +18,7 @@ Layout of the buffers (``n`` FMUs in the contract's order; ``out_off``/``in_off`
 * ``feedthrough[i]``: FMU ``i`` is an algebraic block (direct feedthrough): at each
   communication point it is fed and its outputs read *before* the row is recorded and
   before the others are fed; the others are fed after recording, and read after all
-  have stepped. (The module docstring of :mod:`towcable_fmu.cosim` gives the order.)
+  have stepped. (The docstring of :mod:`towcable_fmu.cosim` gives the order.)
 """
 
 from __future__ import annotations

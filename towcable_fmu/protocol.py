@@ -1,0 +1,60 @@
+"""What every simulation offers, whatever its model (ANCF, nodal-position or rigid-link
+cable): the command line, the TowCable FMU, sweeps and studies use only this.
+
+:func:`towcable_fmu.models.simulation_for` picks the class; tests/test_models.py checks
+each against :class:`CableSimulation`.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable, Mapping, Protocol, runtime_checkable
+
+import numpy as np
+
+#: Solver counters every simulation reports in :meth:`CableSimulation.statistics`, by one
+#: name whatever the model: accepted steps, residual (right-hand-side) evaluations and
+#: factorisations of the iteration matrix. The generalised-alpha models also report
+#: ``solver.rejected_steps`` and ``solver.newton_iterations``; the statics add
+#: ``solver.statics_*``.
+SOLVER_STATISTICS = ("solver.steps", "solver.residual_evaluations", "solver.jacobian_factorisations")
+
+
+@runtime_checkable
+class CableSimulation(Protocol):
+    """One towed-cable system in time (SI units throughout)."""
+
+    #: Current simulation time [s].
+    time: float
+
+    def initialize(self, t0: float = 0.0, ship: np.ndarray | None = None,
+                   setpoint: tuple[float, float] | None = None, statics: bool | None = None) -> dict[str, float]:
+        """The initial state at ``t0`` [s] (static equilibrium if ``statics``; None: the
+        scene's choice); the outputs there."""
+
+    def step(self, dt: float, ship: np.ndarray, setpoint: tuple[float, float] | None = None) -> dict[str, float]:
+        """Advance by ``dt`` [s] with the ship state (3, 6) and winch set-point at the step's
+        start; the outputs at the new time."""
+
+    def run(self, duration: float, interval: float | None = None,
+            progress: Callable[[float, float], None] | None = None) -> dict[str, np.ndarray]:
+        """Record the outputs every ``interval`` [s] for ``duration`` [s] (the scene's own
+        motion); columns :attr:`output_names`."""
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        """The outputs, ``time`` first."""
+
+    def outputs(self) -> dict[str, float]:
+        """The outputs at the current state."""
+
+    def unit_of(self, name: str) -> str:
+        """Unit of an output or statistic name."""
+
+    def statistics(self) -> dict[str, float]:
+        """Solver counters (:data:`SOLVER_STATISTICS` and the model's own ``solver.*``)."""
+
+    def get_state(self) -> dict[str, Any]:
+        """The complete state as JSON-able data."""
+
+    def set_state(self, data: Mapping[str, Any]) -> None:
+        """Restore a state from :meth:`get_state`."""
