@@ -292,7 +292,9 @@ def test_statistics_match_the_series_and_the_statics(local_sweep):
         t = np.array([float(r["time"]) for r in data])
         tension = np.array([float(r["tension.sheave"]) for r in data])[t >= 0.5]
         assert float(row["tension.sheave.max [N]"]) == pytest.approx(tension.max(), rel=1e-9)
-        assert float(row["tension.sheave.std [N]"]) == pytest.approx(tension.std(), rel=1e-6)
+        # the CSV holds 10 significant digits: each value is off by at most 5e-10 |T|, and a
+        # standard deviation moves by no more than the largest change of a value
+        assert abs(float(row["tension.sheave.std [N]"]) - tension.std()) <= 5e-10 * np.abs(tension).max()
         # 2 s after the start in a sea that ramps in over 20 s the cable is near its statics
         assert float(row["tension.sheave.mean [N]"]) == pytest.approx(static, rel=0.01)
 

@@ -22,6 +22,8 @@ from .contact.surfaces import SHEAVE, WINCH
 from .hydro.towbody import body_force
 from .kinematics import rotation_matrix
 from .rigid_body import angular_kinematics, tow_point_state
+from .ancf.prescribed import apply_prescribed
+from .drive import evaluate_drive
 from .numerics.genalpha import CLOCK_TIME
 from .numerics.genalpha import advance as genalpha_advance
 
@@ -251,11 +253,37 @@ def _contact_values(model: CableModel, q: np.ndarray, v: np.ndarray, ship: np.nd
         out[19] = 1.0 if lowest[SHEAVE] > 0.0 else 0.0
 
 
+@njit(cache=True, inline="always")
+def _interpolate_state(model: CableModel, st, ws, t: float, drive_t: np.ndarray, drive_x: np.ndarray) -> None:
+    """The state at time t [s] inside the last accepted step, into ``ws.qs``, ``vs``, ``as_``,
+    ``phis`` and ``ships``: cubic Hermite in the coordinates from their values and rates at
+    both ends (error O(h^4), below the scheme's own O(h^2)), rates its derivative,
+    accelerations linear; the prescribed ends follow the ship and the winch exactly."""
+    t0 = ws.step_start[0]
+    h = st.clock[CLOCK_TIME] - t0
+    s = (t - t0) / h
+    s2, s3 = s * s, s * s * s
+    h00, h10, h01, h11 = 2.0 * s3 - 3.0 * s2 + 1.0, s3 - 2.0 * s2 + s, 3.0 * s2 - 2.0 * s3, s3 - s2
+    d00, d10, d01, d11 = (6.0 * s2 - 6.0 * s) / h, 3.0 * s2 - 4.0 * s + 1.0, (6.0 * s - 6.0 * s2) / h, 3.0 * s2 - 2.0 * s
+    for i in range(st.q.shape[0]):
+        q0, v0, q1, v1 = ws.q0[i], ws.v0[i], st.q[i], st.v[i]
+        ws.qs[i] = h00 * q0 + h10 * h * v0 + h01 * q1 + h11 * h * v1
+        ws.vs[i] = d00 * q0 + d10 * v0 + d01 * q1 + d11 * v1
+        ws.as_[i] = (1.0 - s) * ws.a0[i] + s * st.a[i]
+    ws.phis[0] = h00 * ws.phi0[0] + h10 * h * ws.phi0[1] + h01 * st.phi[0] + h11 * h * st.phi[1]
+    ws.phis[1] = d00 * ws.phi0[0] + d10 * ws.phi0[1] + d01 * st.phi[0] + d11 * st.phi[1]
+    for j in range(2, 4):
+        ws.phis[j] = (1.0 - s) * ws.phi0[j] + s * st.phi[j]
+    evaluate_drive(drive_t, drive_x, t, ws.ships)
+    apply_prescribed(model.att_index, model.att_kind, model.att_vec, model.att_radius, ws.ships, ws.phis,
+                     ws.qs, ws.vs, ws.as_)
+
+
 @njit(cache=True)
 def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive_t: np.ndarray,
                       drive_x: np.ndarray, xi: np.ndarray, body_mass: float, has_winch: bool,
                       sheave_position: np.ndarray, payout_radius: float, phi_nom: float, index: np.ndarray,
-                      rows: np.ndarray, finite: bool) -> int:
+                      rows: np.ndarray, finite: bool, interpolate: bool, t_land: float) -> int:
     """Advance through the sample times and record the outputs ``index`` of
     :func:`output_values` (the scene's, :class:`OutputLayout`) at each.
 
@@ -266,6 +294,13 @@ def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive
     ``index`` it only steps (no outputs are computed), and one sample at the current
     time reads the outputs of the state.
 
+    Sampling: without ``interpolate`` the steps land on every sample time. With it the
+    integrator keeps its own step size and never passes ``t_land`` [s] (where it lands):
+    a sample inside a step reads the state interpolated in that step
+    (:func:`_interpolate_state`), so the output interval does not change the steps. The
+    state may then end up to one step past the last sample (the next block's drive table
+    must start at ``ws.step_start``).
+
     Returns
     -------
     int
@@ -273,15 +308,28 @@ def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive
         step failed (the state is then the last accepted step) or, with ``finite``, whose
         outputs are not finite.
     """
-    for k in range(samples.shape[0]):
-        if genalpha_advance(model, opt, st, ws, samples[k], drive_t, drive_x) != 0:
-            return k
+    k = 0
+    while k < samples.shape[0]:
+        t_s = samples[k]
+        t = st.clock[CLOCK_TIME]
+        tol = 1e-12 * max(1.0, abs(t_s))
+        if t_s > t + tol:  # (one call site of the IR-inlined integrator)
+            target = t_land if interpolate else t_s
+            if genalpha_advance(model, opt, st, ws, target, drive_t, drive_x, interpolate) != 0:
+                return k
+            continue
+        k += 1
         if index.shape[0] == 0:
             continue
-        values = output_values(model, st.q, st.v, st.a, st.phi, st.clock[CLOCK_TIME], ws.ship, xi, body_mass, has_winch,
+        if t_s >= t - tol:
+            q, v, a, phi, ship = st.q, st.v, st.a, st.phi, ws.ship
+        else:
+            _interpolate_state(model, st, ws, t_s, drive_t, drive_x)
+            q, v, a, phi, ship = ws.qs, ws.vs, ws.as_, ws.phis, ws.ships
+        values = output_values(model, q, v, a, phi, t_s, ship, xi, body_mass, has_winch,
                                sheave_position, payout_radius, phi_nom, ws.r)
         for j in range(index.shape[0]):
-            rows[k, j] = values[index[j]]
-            if finite and not np.isfinite(rows[k, j]):
-                return k
+            rows[k - 1, j] = values[index[j]]
+            if finite and not np.isfinite(rows[k - 1, j]):
+                return k - 1
     return samples.shape[0]

@@ -549,13 +549,13 @@ class Simulation:
         """All fields of :data:`~towcable_fmu.output_kernel.OUTPUT_FIELDS` (NaN: not in the scene)."""
         rows = np.empty((1, len(OUTPUT_FIELDS)))
         advance_recording(self.model, self.options, self.state, self.workspace, np.array([self.time]), *_NO_DRIVE,
-                          *self._output_arguments(), _ALL_OUTPUTS, rows, False)
+                          *self._output_arguments(), _ALL_OUTPUTS, rows, False, False, self.time)
         return rows[0]
 
     def _step_to(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> int:
         """genalpha.advance to t_end (through advance_recording, recording nothing); the solver status."""
         reached = advance_recording(self.model, self.options, self.state, self.workspace, np.array([t_end]),
-                                    *drive, *self._output_arguments(), _NO_OUTPUTS, _NO_ROWS, False)
+                                    *drive, *self._output_arguments(), _NO_OUTPUTS, _NO_ROWS, False, False, t_end)
         return genalpha.OK if reached == 1 else genalpha.FAILED_MIN_STEP
 
     def _output_arguments(self) -> tuple:
@@ -772,14 +772,25 @@ class Simulation:
         chunk = 1 if rigorous else max(1, int(1.0 / dt))
         if progress is not None:
             progress(t0, t0 + duration)
+        # the integrator's own steps, samples read from its interpolant (not with a rigorous
+        # compensation, whose set-point needs the state at every sample)
+        interpolate = loads is None and self.viv is None and not rigorous
+        t_land = float(samples[-1])
         for first in range(0, n, chunk):
             stop = min(n, first + chunk)
-            drive = self._drive(np.concatenate([[self.time], samples[first:stop]]))
-            self._cover(samples[stop - 1])
+            if interpolate:  # from the last step's start (samples inside it), one step past the block
+                start = min(self.time, float(self.workspace.step_start[0])) if samples[first] < self.time else self.time
+                end = min(t_land, float(samples[stop - 1]) + self.options.h_max)
+                marks = np.concatenate([[start], samples[first:stop][samples[first:stop] > start], [end]])
+                drive = self._drive(np.unique(marks))
+                self._cover(end)
+            else:
+                drive = self._drive(np.concatenate([[self.time], samples[first:stop]]))
+                self._cover(samples[stop - 1])
             if loads is None and self.viv is None:
                 reached = first + advance_recording(
                     self.model, self.options, self.state, self.workspace, samples[first:stop], *drive,
-                    *self._output_arguments(), index, values[first + 1:stop + 1], True)
+                    *self._output_arguments(), index, values[first + 1:stop + 1], True, interpolate, t_land)
             else:  # the rigid load's outputs, or the wake coupling, in Python: one sample at a time
                 reached = first
                 while reached < stop and self._integrate(samples[reached], drive) == genalpha.OK:

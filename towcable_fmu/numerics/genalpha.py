@@ -141,6 +141,13 @@ class Workspace(NamedTuple):
     a0: np.ndarray
     abar0: np.ndarray
     ship: np.ndarray     #: (3, 6) ship state at the step end
+    phi0: np.ndarray     #: (4,) winch state at the start of a step
+    step_start: np.ndarray  #: (1,) time at the start of the last accepted step [s] (NaN: none yet)
+    qs: np.ndarray       #: (nf,) a state between two step ends (interpolated sampling)
+    vs: np.ndarray
+    as_: np.ndarray
+    phis: np.ndarray     #: (4,)
+    ships: np.ndarray    #: (3, 6)
 
 
 def new_state(nf: int) -> IntegratorState:
@@ -155,7 +162,9 @@ def new_workspace(model: CableModel) -> Workspace:
     nf = model.free_idx.shape[0]
     n = model.free_dofs.shape[0]
     return Workspace(np.zeros((2 * model.kl + model.ku + 1, n)), np.zeros(n, dtype=np.int64), np.zeros(nf),
-                     np.zeros(n), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros((3, 6)))
+                     np.zeros(n), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros((3, 6)),
+                     np.zeros(4), np.full(1, np.nan), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(4),
+                     np.zeros((3, 6)))
 
 
 @njit(cache=True)
@@ -368,20 +377,22 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
 
 
 @njit(cache=True, inline="always")
-def _restore(st, ws, phi0):
+def _restore(st, ws):
     st.q[:] = ws.q0
     st.v[:] = ws.v0
     st.a[:] = ws.a0
     st.abar[:] = ws.abar0
-    st.phi[:] = phi0
+    st.phi[:] = ws.phi0
 
 
 # IR-inlined into towcable_fmu.output_kernel.advance_recording, the one compiled call
 # Simulation steps with (a kernel of its own would link and optimise everything again).
 @njit(cache=True, inline="always")
 def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Workspace, t_end: float,
-            drive_t: np.ndarray, drive_x: np.ndarray) -> int:
-    """Integrate from the state's time to ``t_end`` (landing on it exactly).
+            drive_t: np.ndarray, drive_x: np.ndarray, one_step: bool) -> int:
+    """Integrate from the state's time to ``t_end`` (landing on it exactly), or with
+    ``one_step`` take one accepted step of the current size towards it (the last one
+    shortened to land on ``t_end``).
 
     Parameters
     ----------
@@ -393,6 +404,9 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
         Target time [s].
     drive_t, drive_x
         Drive table (see :func:`evaluate_drive`) covering the interval.
+    one_step
+        Return after one accepted step; ``ws.q0``, ``v0``, ``a0``, ``phi0`` and
+        ``step_start`` then hold its start (for interpolated outputs).
 
     Returns
     -------
@@ -401,7 +415,6 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
         (the state is then the last accepted step, at a time before ``t_end``).
     """
     am, af, gamma, beta = scheme_coefficients(opt.rho_inf)
-    phi0 = np.empty(4)
     while True:
         t = st.clock[CLOCK_TIME]
         remaining = t_end - t
@@ -410,21 +423,23 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
             return OK
         h = min(st.clock[CLOCK_STEP], opt.h_max)
         nrem = math.ceil(remaining / h - 1e-9)
-        h_try = remaining / nrem
+        # one step: the current size, the last two steps before t_end split evenly
+        h_try = h if one_step and nrem > 2 else remaining / nrem
         ws.q0[:] = st.q
         ws.v0[:] = st.v
         ws.a0[:] = st.a
         ws.abar0[:] = st.abar
-        phi0[:] = st.phi
+        ws.phi0[:] = st.phi
         for attempt in range(2):  # (one call site of the inlined _try_step)
             status = _try_step(model, opt, st, ws, h_try, drive_t, drive_x, am, af, gamma, beta)
             if attempt == 1 or not (status == STEP_NOT_CONVERGED and st.jac[JAC_AGE] > 0.0):
                 break
             # stale Jacobian: retry the same step with a fresh one
-            _restore(st, ws, phi0)
+            _restore(st, ws)
             st.jac[JAC_VALID] = 0.0
             st.jac[JAC_ETA] = 1.0
         if status == STEP_ACCEPTED:
+            ws.step_start[0] = t
             st.stats[STAT_STEPS] += 1
             st.clock[CLOCK_STEPS_SINCE_CUT] += 1.0
             if opt.adaptive:
@@ -437,8 +452,10 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
                 # fixed-step mode after a cut: return to the nominal step by doublings
                 st.clock[CLOCK_STEP] = min(opt.h_max, 2.0 * st.clock[CLOCK_STEP])
                 st.clock[CLOCK_STEPS_SINCE_CUT] = 0.0
+            if one_step:
+                return OK
             continue
-        _restore(st, ws, phi0)
+        _restore(st, ws)
         st.stats[STAT_REJECTED] += 1
         st.clock[CLOCK_STEPS_SINCE_CUT] = 0.0
         if status == STEP_ERROR_TOO_LARGE:
