@@ -580,8 +580,8 @@ class Simulation:
         length, rest = float(np.linalg.norm(d)), m.load_length
         # the link force k (l - L)/L d of W(139) is central: its potential is a function of l alone
         link = m.load_k / rest * ((length**3 - rest**3) / 3.0 - rest * (length**2 - rest**2) / 2.0)
-        return {"tension.load": float(np.linalg.norm(pull)), "load.angle": float(np.arctan2(d[0], -d[2])),
-                "energy.load": float(kinetic + link)}
+        return dict(zip(LOAD_OUTPUTS, (float(np.linalg.norm(pull)), float(np.arctan2(d[0], -d[2])),
+                                       float(kinetic + link))))
 
     def body_state(self) -> dict[str, np.ndarray]:
         """State of a rigid towed body (as :meth:`NodalSimulation.body_state

@@ -167,7 +167,7 @@ class SweepSpec:
 
     def cases(self) -> list[Case]:
         """Every combination of the swept values (the first parameter varies slowest)."""
-        segments = _segment_count(self.settings.scene) if _sets_every_segment([*self.fixed, *self.parameters]) else 0
+        segments = _segment_count(self.settings.scene, _named(self.fixed, self.parameters))
         fixed = expand_overrides(self.fixed, segments)
         names = list(self.parameters)
         cases = []
@@ -220,20 +220,30 @@ def _sets_every_segment(names: Iterable[str]) -> bool:
     return any("{n}" in key for name in names for key in ALIASES.get(name, ()))
 
 
-def _segment_count(scene: str) -> int:
+def _named(fixed: Mapping[str, Any], parameters: Mapping[str, Any] | None = None) -> list[tuple[str, str]]:
+    """(table, name) of every parameter of a spec."""
+    return [("fixed", n) for n in fixed] + [("parameters", n) for n in parameters or ()]
+
+
+def _segment_count(scene: str, named: Iterable[tuple[str, str]]) -> int:
+    """The scene's number of cable segments if one of the (table, name) parameters is an
+    alias of a key of every segment, else 0.
+
+    Raises
+    ------
+    SpecError
+        Such an alias on a scene whose cable has no segments (a rigid-link scene).
+    """
     from ..scene import load_scene
 
-    return len(load_scene(scene).cable.segments)
-
-
-def _check_segment_aliases(scene: str, names: Iterable[str], where: str) -> None:
-    """An alias of every cable segment's key needs a scene whose cable has segments."""
-    from ..scene import load_scene
-
-    for name in names:
-        if _sets_every_segment([name]) and not hasattr(load_scene(scene).cable, "segments"):
-            raise SpecError(f"{where}.{name}", name, "a parameter of this scene: its cable has no segments "
-                                                     f"(the alias sets {ALIASES[name][0]})")
+    for table, name in named:
+        if _sets_every_segment([name]):
+            cable = load_scene(scene).cable
+            if not hasattr(cable, "segments"):
+                raise SpecError(f"{table}.{name}", name, "a parameter of this scene: its cable has no segments "
+                                                         f"(the alias sets {ALIASES[name][0]})")
+            return len(cable.segments)
+    return 0
 
 
 def scene_signals(settings: RunSettings, fixed: Mapping[str, Any]) -> tuple[tuple[str, ...], Callable[[str], str]]:
@@ -250,7 +260,7 @@ def scene_signals(settings: RunSettings, fixed: Mapping[str, Any]) -> tuple[tupl
         return tuple(dict.fromkeys(names)), contract.unit_of
     from ..models import simulation_from
 
-    segments = _segment_count(settings.scene) if _sets_every_segment(fixed) else 0
+    segments = _segment_count(settings.scene, _named(fixed))
     try:
         sim = simulation_from(settings.scene, expand_overrides(fixed, segments))
     except SceneError:
@@ -354,8 +364,7 @@ def spec_from_table(doc: Mapping[str, Any], base_dir: Path = Path("."), source: 
         parameters[key] = _values(f"parameters.{key}", raw)
     settings = RunSettings(mode=mode, scene=scene, duration=duration, settle=settle, interval=interval, step=step,
                            fraction=fraction, fmu_dir=fmu_dir)
-    _check_segment_aliases(scene, fixed, "fixed")
-    _check_segment_aliases(scene, parameters, "parameters")
+    _segment_count(scene, _named(fixed, parameters))  # a segment alias needs segments
     signals, unit_of = scene_signals(settings, fixed)
     stats = _checked_statistics(sweep.get("statistics"), settings, signals)
     units = {n: statistic(n).unit or unit_of(statistic(n).signals[0]) for n in stats}
