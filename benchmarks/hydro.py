@@ -24,9 +24,9 @@ def point_cost() -> dict[str, float]:
     dry = m._replace(water=m.water._replace(enabled=False))
     r = np.zeros_like(st.q)
     ship = np.zeros((3, 6))
-    before = int(m.hydro.calls[0])
+    before = int(m.terms.hydrodynamics.calls[0])
     residual(m, st.q, st.v, st.a, 0.0, ship, r)
-    points = int(m.hydro.calls[0]) - before
+    points = int(m.terms.hydrodynamics.calls[0]) - before
     wet = per_call_us(lambda: residual(m, st.q, st.v, st.a, 0.0, ship, r))
     dry_cost = per_call_us(lambda: residual(dry, st.q, st.v, st.a, 0.0, ship, r))
     return {"elements": 60.0, "wet integration points": float(points), "residual, dry [us]": dry_cost,

@@ -55,8 +55,9 @@ def profile(name: str, duration: float) -> dict:
     t = sim.time
     r = np.zeros_like(st.q)
     unbox = per_call_us(lambda: _unbox(m))
-    dry = m._replace(water=m.water._replace(enabled=False), contact=m.contact._replace(enabled=False))
-    wet = m._replace(contact=m.contact._replace(enabled=False))
+    no_contact = m.terms._replace(contact=m.terms.contact._replace(enabled=False))
+    dry = m._replace(water=m.water._replace(enabled=False), terms=no_contact)
+    wet = m._replace(terms=no_contact)
     touching = m._replace(water=m.water._replace(enabled=False))
 
     def cost(model) -> float:
@@ -64,7 +65,7 @@ def profile(name: str, duration: float) -> dict:
 
     elastic = cost(dry)
     hydro = cost(wet) - elastic if m.water.enabled else 0.0
-    contact = cost(touching) - elastic if m.contact.enabled else 0.0
+    contact = cost(touching) - elastic if m.terms.contact.enabled else 0.0
     n = m.free_dofs.size
     ab = ws.ab.copy()
     jac = per_call_us(lambda: iteration_matrix(m, st.q, st.v, t, ws.ship, 1.0, 1e-3, 1e-6, ab)) - unbox

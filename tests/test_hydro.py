@@ -299,17 +299,17 @@ def test_dry_scene_never_calls_the_hydrodynamic_kernels():
     sim.initialize()
     sim.run(1.0)
     assert not sim.model.water.enabled
-    assert sim.model.hydro.calls[0] == 0 and sim.model.body.calls[0] == 0
+    assert sim.model.terms.hydrodynamics.calls[0] == 0 and sim.model.terms.towbody.calls[0] == 0
 
 
 def test_elements_above_the_water_cost_no_hydrodynamics():
     sim = Simulation.from_scene("full_scale_pinned", {"water.surface_z": -1000.0})
     sim.initialize()
     sim.run(0.5)
-    assert sim.model.hydro.calls[0] == 0 and sim.model.body.calls[0] == 0
+    assert sim.model.terms.hydrodynamics.calls[0] == 0 and sim.model.terms.towbody.calls[0] == 0
     wet = Simulation.from_scene("full_scale_pinned")
     wet.initialize()
-    assert wet.model.hydro.calls[0] > 0 and wet.model.body.calls[0] > 0
+    assert wet.model.terms.hydrodynamics.calls[0] > 0 and wet.model.terms.towbody.calls[0] > 0
 
 
 def test_wet_scene_without_a_towed_body_never_calls_the_body_kernel():
@@ -321,8 +321,8 @@ def test_wet_scene_without_a_towed_body_never_calls_the_body_kernel():
     sim = Simulation(scene_from_table(table))
     sim.initialize()
     sim.run(0.5)
-    assert sim.model.hydro.calls[0] > 0
-    assert not sim.model.body.enabled and sim.model.body.calls[0] == 0
+    assert sim.model.terms.hydrodynamics.calls[0] > 0
+    assert not sim.model.terms.towbody.enabled and sim.model.terms.towbody.calls[0] == 0
 
 
 def test_no_impulse_when_an_element_enters_the_water():

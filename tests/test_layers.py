@@ -94,7 +94,7 @@ def test_the_graph_sees_deferred_and_relative_imports():
     """The checks below can fail: the graph finds a known deferred import and a relative one."""
     graph = import_graph()
     assert "towcable_fmu.simulation" in graph["towcable_fmu.models"]  # inside simulation_for
-    assert "towcable_fmu.ancf.system" in graph["towcable_fmu.ancf.mesh"]  # from .system import
+    assert "towcable_fmu.ancf.model" in graph["towcable_fmu.ancf.mesh"]  # from .model import
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
 
 

@@ -66,7 +66,7 @@ def test_held_load_is_let_go_as_a_pendulum_released_at_rest(scene):
     assert out["tension.load"] == pytest.approx(pull, rel=1e-6)
     assert out["tension.min"] > 0.9 * pull  # taut all along, nowhere compressed
     m, st = sim.model, sim.state
-    p, i = m.load_index - 6, m.load_index
+    p, i = m.terms.rigid_load.index - 6, m.terms.rigid_load.index
     kappa = scene_.load.length_pg / scene_.load.length_pi
     a_g = (1.0 - kappa) * st.a[p:p + 3] + kappa * st.a[i:i + 3]
     rope = np.array([math.cos(theta), 0.0, -math.sin(theta)])

@@ -175,7 +175,7 @@ def test_steady_tow_settles_at_the_trim_its_forces_imply(formulation, statics):
         along = (nodes[-2] - nodes[-1]) / np.linalg.norm(nodes[-2] - nodes[-1])
         assert np.degrees(math.acos(force @ along / np.linalg.norm(force))) < 2.0   # nearly along the last element
     else:
-        assert body["link_stretch"] == pytest.approx(np.linalg.norm(force) / sim.model.rigid_k, rel=1e-3)
+        assert body["link_stretch"] == pytest.approx(np.linalg.norm(force) / sim.model.terms.rigid_link.k, rel=1e-3)
         assert body["link_stretch"] < 2e-5
     # force balance in the current (body at rest): weight, buoyancy, drag, cable
     b = table["towbody"]
@@ -459,10 +459,11 @@ def test_ancf_link_stiffness_does_not_change_the_results():
     runs = {}
     for factor in (0.1, 1.0, 10.0):
         sim = Simulation(scene_from_table(_ancf(_kicked_in_air(_tow_table()))))
-        sim.model = sim.model._replace(rigid_k=sim.model.rigid_k * factor,
-                                       rigid_c=sim.model.rigid_c * math.sqrt(factor))
+        link = sim.model.terms.rigid_link
+        link = link._replace(k=link.k * factor, c=link.c * math.sqrt(factor))
+        sim.model = sim.model._replace(terms=sim.model.terms._replace(rigid_link=link))
         runs[factor] = _kick_run(sim)
-        stretch = np.linalg.norm(sim.body_state()["cable_force"]) / sim.model.rigid_k
+        stretch = np.linalg.norm(sim.body_state()["cable_force"]) / sim.model.terms.rigid_link.k
         assert stretch < 4e-4
     base = runs[1.0]
     for factor in (0.1, 10.0):
@@ -529,7 +530,7 @@ def test_ancf_iteration_matrix_holds_the_body_couplings():
     n = free.size
     ab = np.zeros((2 * m.kl + m.ku + 1, n))
     iteration_matrix(m, q, v, 0.0, ship, ca, cv, cq, ab)
-    i = m.rigid_index
+    i = m.terms.rigid_link.index
     cols = list(range(i - 6, i - 3)) + list(range(i, i + 6))
     rp, rm = np.zeros_like(q), np.zeros_like(q)
     for j in cols:
@@ -571,4 +572,4 @@ def test_ancf_rigid_state_round_trip_continues_bit_identically():
     again = sim.advance(2.0)
     assert first == again
     assert {"towbody.roll", "towbody.pitch", "towbody.yaw", "tension.towbody"} <= set(first)
-    assert abs(first["towbody.pitch"] - saved["fields"]["q"][sim.model.rigid_index + 4]) > 1e-4   # it moved
+    assert abs(first["towbody.pitch"] - saved["fields"]["q"][sim.model.terms.rigid_link.index + 4]) > 1e-4   # it moved

@@ -178,7 +178,7 @@ def _groove_force(h: float, y: float) -> tuple[np.ndarray, float]:
     """Total force per unit length of full_scale's sheave faces on a cable point at height h
     above its seat and offset y from the groove centre, at the top of the sheave [N/m]
     (Y, radial), and the point's detachment measure [m]."""
-    from towcable_fmu.ancf.mesh import build_contact
+    from towcable_fmu.ancf.forces.contact import build_contact
     from towcable_fmu.contact.surfaces import SHEAVE, groove_exit
     from towcable_fmu.scene import load_scene
 
@@ -497,7 +497,7 @@ def test_scenes_without_a_sheave_or_winch_never_call_the_contact_kernels():
     sim = Simulation.from_scene("hanging_cable")
     sim.initialize()
     sim.run(0.5)
-    assert not sim.model.contact.enabled and sim.model.contact.calls[0] == 0
+    assert not sim.model.terms.contact.enabled and sim.model.terms.contact.calls[0] == 0
     # a winch without a sheave: the drum is the only surface there is to test
     flume = Simulation.from_scene("flume")
-    assert set(flume.model.contact.face_surface.tolist()) == {WINCH}
+    assert set(flume.model.terms.contact.face_surface.tolist()) == {WINCH}

@@ -75,8 +75,8 @@ class FrameRecorder:
         sim = self.sim
         t = sim.time
         load = None
-        if sim.model.load_on:
-            i = sim.model.load_index
+        if sim.model.terms.rigid_load.enabled:
+            i = sim.model.terms.rigid_load.index
             load = sim.state.q[i:i + 3].copy()
         self._rows.append((t, sim.node_positions(), sim.shape(self.points_per_element)[1],
                            sim.motion.evaluate(t)[0].copy(), float(sim.state.phi[0]), load))

@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from .ancf.measures import element_tension, point_on_cable, summary
-from .ancf.system import CableModel
+from .ancf.model import CableModel
 from .contact.cable import surface_summary
 from .contact.surfaces import SHEAVE, WINCH
 from .hydro.towbody import body_force
@@ -112,7 +112,7 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     body_mass
         Mass of the lumped towed body [kg] (the cable's last node carries it, with the
         cable's end mass if the scene has one); negative: no lumped towed body (a rigid
-        body, ``model.rigid.enabled``, reports from its own coordinates).
+        body, ``model.terms.rigid_link.enabled``, reports from its own coordinates).
     has_winch
         The cable's top end is on a winch drum.
     sheave_position
@@ -149,8 +149,8 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     out[4] = math.atan2(math.sqrt(q[3] ** 2 + q[4] ** 2), -q[5])
     if body_mass >= 0.0:
         hydro = np.zeros(3)
-        if model.body.enabled:
-            body_force(model.water, model.body, q[last:last + 3], v[last:last + 3], a[last:last + 3], t, hydro)
+        if model.terms.towbody.enabled:
+            body_force(model.water, model.terms.towbody, q[last:last + 3], v[last:last + 3], a[last:last + 3], t, hydro)
         hydro[2] -= body_mass * model.gravity
         total = 0.0
         for c in range(3):
@@ -158,14 +158,14 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
             out[6 + c] = q[last + c]
             out[9 + c] = v[last + c]
         out[5] = math.sqrt(total)
-    if model.rigid.enabled:
+    if model.terms.rigid_link.enabled:
         kinetic, strain, gravity = _rigid_values(model, q, v, a, out, kinetic, strain, gravity)
     out[20] = kinetic
     out[21] = strain
     out[22] = gravity
     out[23] = phi[0]
     out[24] = payout_radius * (phi_nom - phi[0])
-    if model.contact.enabled:
+    if model.terms.contact.enabled:
         _contact_values(model, q, v, ship, has_winch, sheave_position, top, out)
     return out
 
@@ -177,9 +177,10 @@ def _rigid_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
                   kinetic: float, strain: float, gravity: float) -> tuple:
     """A rigid towed body's CG, velocity, attitude and link force into ``out``; returns the
     energies with the body's kinetic energy, weight and link strain energy added [J]."""
-    i = model.rigid_index
+    link = model.terms.rigid_link
+    i = link.index
     p = i - 6
-    b = model.rigid
+    b = link.body
     xt, vt, at = np.empty(3), np.empty(3), np.empty(3)
     tow_point_state(b, q[i:i + 6], v[i:i + 6], a[i:i + 6], xt, vt, at)
     _, _, w, _ = angular_kinematics(q[i:i + 6], v[i:i + 6], a[i:i + 6])
@@ -187,7 +188,7 @@ def _rigid_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     stretch = 0.0
     for c in range(3):
         d = q[p + c] - xt[c]
-        f = model.rigid_k * d + model.rigid_c * (v[p + c] - vt[c])
+        f = link.k * d + link.c * (v[p + c] - vt[c])
         force += f * f
         stretch += d * d
         out[6 + c] = q[i + c]
@@ -197,7 +198,7 @@ def _rigid_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
         for k in range(3):
             kinetic += 0.5 * w[c] * b.inertia[c, k] * w[k]
     out[5] = math.sqrt(force)
-    return kinetic, strain + 0.5 * model.rigid_k * stretch, gravity + b.mass * model.gravity * q[i + 2]
+    return kinetic, strain + 0.5 * link.k * stretch, gravity + b.mass * model.gravity * q[i + 2]
 
 
 @njit(cache=True, inline="always")  # (as _rigid_values)
@@ -209,7 +210,7 @@ def _contact_values(model: CableModel, q: np.ndarray, v: np.ndarray, ship: np.nd
     ends = np.zeros((2, 4))
     lowest = np.zeros(2)
     energy = np.zeros(2)
-    surface_summary(model.contact, model.el_len, model.hydro.el_d, model.hydro.el_npts, q, v, ship, force, span,
+    surface_summary(model.terms.contact, model.el_len, model.el_d, model.el_npts, q, v, ship, force, span,
                     ends, lowest, energy, np.empty((0, 3)))
     out[12] = math.sqrt(force[WINCH, 0] ** 2 + force[WINCH, 1] ** 2 + force[WINCH, 2] ** 2)
     out[13] = math.sqrt(force[SHEAVE, 0] ** 2 + force[SHEAVE, 1] ** 2 + force[SHEAVE, 2] ** 2)

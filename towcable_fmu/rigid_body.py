@@ -38,7 +38,7 @@ is used, but the last node keeps its coordinates (its slopes must stay free and 
 assembly is built around whole nodes): the body's six coordinates follow the cable's,
 and a stiff spring-damper link ``f = k (X_N - p) + c (V_N - dp/dt)`` joins the node to
 the tow point; ``r_N`` above is then ``-f``. The implicit integrator carries the link's
-stiffness (k = 100 EA/L of the last element, ``towcable_fmu.ancf.mesh.RIGID_LINK_FACTOR``).
+stiffness (k = 100 EA/L of the last element, ``towcable_fmu.ancf.forces.rigid_link.RIGID_LINK_FACTOR``).
 
 Simplifications (the paper gives none of these terms): the added mass is diagonal
 in body axes without the Munk moment or added-mass Coriolis terms; the rotational

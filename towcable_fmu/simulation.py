@@ -16,9 +16,10 @@ import numpy as np
 from . import contract
 from . import drive as drive_poly
 from .ancf import element, initial_shape, measures
-from .ancf.mesh import Mesh, build_mesh, build_model, held_load_forces, winch_radius
+from .ancf.mesh import build_mesh, build_model, held_load_forces, winch_radius
 from .ancf.prescribed import apply_prescribed
-from .ancf.system import CableModel, residual
+from .ancf.model import CableModel, Mesh
+from .ancf.system import residual
 from .contact.cable import surface_summary
 from .output_kernel import OUTPUT_FIELDS, OutputLayout, advance_recording
 from .errors import SceneError, SolverError
@@ -110,11 +111,11 @@ class Simulation:
         self._last_outputs: dict[str, float] = {}
         self._payout_radius = winch_radius(scene) if scene.winch is not None else 0.0  # r_w + d/2 [m]
         self._phi_nom = scene.winch.phi_nom if scene.winch is not None else 0.0
-        rigid = bool(self.model.rigid.enabled)
+        rigid = bool(self.model.terms.rigid_link.enabled)
         self._body_mass = -1.0 if scene.towbody is None or rigid else scene.towbody.mass  # [kg]
         #: The outputs this scene has (names in docs/design.md), see :meth:`outputs`.
         self.layout = OutputLayout(towbody=scene.towbody is not None, winch=scene.winch is not None,
-                                   sheave=scene.sheave is not None, contact=bool(self.model.contact.enabled),
+                                   sheave=scene.sheave is not None, contact=bool(self.model.terms.contact.enabled),
                                    rigid=rigid)
         # sheave centre in the ship frame [m] (NaN: none), for the compiled outputs
         self._sheave_position = np.array(scene.sheave.position if scene.sheave is not None else [np.nan] * 3,
@@ -124,7 +125,7 @@ class Simulation:
         if scene.viv is not None and scene.viv.enabled:
             from .viv.coupling import WakeCoupling
 
-            self.viv = WakeCoupling(scene, self.mesh.segment_of_element, self.mesh.lengths, self.model.f_const)
+            self.viv = WakeCoupling(scene, self.mesh.segment_of_element, self.mesh.lengths, self.model.terms.wake.load)
 
     @classmethod
     def from_scene(cls, name_or_path: str | Path,
@@ -287,9 +288,9 @@ class Simulation:
         """Rough initial coordinates: the cable's shape, then the load hanging on along its
         end, or a rigid body at its initial attitude with its tow point on the last node."""
         x = self._initial_cable_shape(ship0)
-        if self.model.rigid.enabled:
+        if self.model.terms.rigid_link.enabled:
             attitude = np.array(self.scene.towbody.rigid.attitude, dtype=float)
-            cg = x[-6:-3] - rotation(*attitude) @ self.model.rigid.axes[ROW_TOW]
+            cg = x[-6:-3] - rotation(*attitude) @ self.model.terms.rigid_link.body.axes[ROW_TOW]
             return np.concatenate([x, cg, attitude])
         if self.scene.load is None:
             return x
@@ -383,9 +384,9 @@ class Simulation:
 
     def _failure_hint(self) -> str:
         """What a failed step of a rigid-body scene may be due to (empty otherwise)."""
-        if not self.model.rigid.enabled:
+        if not self.model.terms.rigid_link.enabled:
             return ""
-        pitch = float(self.state.q[self.model.rigid_index + 4])
+        pitch = float(self.state.q[self.model.terms.rigid_link.index + 4])
         return (f"; the rigid body's pitch is {pitch:.4g} rad, its Euler angles are singular at +-pi/2"
                 if abs(math.cos(pitch)) < 0.1 else "")
 
@@ -525,7 +526,7 @@ class Simulation:
     def output_names(self) -> tuple[str, ...]:
         """The outputs this scene has, ``time`` first: the keys of :meth:`outputs` and the
         columns of :meth:`run` (units: :meth:`unit_of`)."""
-        return ("time", *self.layout.names, *(LOAD_OUTPUTS if self.model.load_on else ()))
+        return ("time", *self.layout.names, *(LOAD_OUTPUTS if self.model.terms.rigid_load.enabled else ()))
 
     def unit_of(self, name: str) -> str:
         """Unit of an output name (the variable contract's)."""
@@ -541,7 +542,7 @@ class Simulation:
         """
         out = {"time": self.time}
         out.update(zip(self.layout.names, self._output_array()[self.layout.index].tolist()))
-        if self.model.load_on:
+        if self.model.terms.rigid_load.enabled:
             out.update(self._load_outputs())
         return out
 
@@ -565,21 +566,21 @@ class Simulation:
 
     def _load_outputs(self) -> dict[str, float]:
         """Swing angle of the rigid load and the force the cable exerts on it."""
-        m, st = self.model, self.state
-        i = m.load_index
+        load_term, st = self.model.terms.rigid_load, self.state
+        i = load_term.index
         p = i - 6
         load = self.scene.load
         kappa = load.length_pg / load.length_pi
         # the load's own equations summed over P and I: the link forces cancel, what remains
         # is the cable's pull = sum of (mass matrix x acceleration) minus the load's weight
-        pull = ((m.load_mass[0] + m.load_mass[1]) * st.a[p:p + 3] + (m.load_mass[1] + m.load_mass[2]) * st.a[i:i + 3])
+        pull = ((load_term.mass[0] + load_term.mass[1]) * st.a[p:p + 3] + (load_term.mass[1] + load_term.mass[2]) * st.a[i:i + 3])
         pull[2] += load.mass * self.scene.environment.gravity * ((1.0 - kappa) + kappa)
         d = st.q[i:i + 3] - st.q[p:p + 3]
         vp, vi = st.v[p:p + 3], st.v[i:i + 3]
-        kinetic = 0.5 * (m.load_mass[0] * vp @ vp + 2.0 * m.load_mass[1] * vp @ vi + m.load_mass[2] * vi @ vi)
-        length, rest = float(np.linalg.norm(d)), m.load_length
+        kinetic = 0.5 * (load_term.mass[0] * vp @ vp + 2.0 * load_term.mass[1] * vp @ vi + load_term.mass[2] * vi @ vi)
+        length, rest = float(np.linalg.norm(d)), load_term.length
         # the link force k (l - L)/L d of W(139) is central: its potential is a function of l alone
-        link = m.load_k / rest * ((length**3 - rest**3) / 3.0 - rest * (length**2 - rest**2) / 2.0)
+        link = load_term.k / rest * ((length**3 - rest**3) / 3.0 - rest * (length**2 - rest**2) / 2.0)
         return dict(zip(LOAD_OUTPUTS, (float(np.linalg.norm(pull)), float(np.arctan2(d[0], -d[2])),
                                        float(kinetic + link))))
 
@@ -602,19 +603,19 @@ class Simulation:
         ValueError
             If the scene has no rigid towed body.
         """
-        m, st = self.model, self.state
-        if not m.rigid.enabled:
+        link, st = self.model.terms.rigid_link, self.state
+        if not link.enabled:
             raise ValueError("the scene has no rigid towed body (towbody.model = 'rigid')")
-        i = m.rigid_index
+        i = link.index
         p = i - 6
         rot, _, w, _ = angular_kinematics(st.q[i:i + 6], st.v[i:i + 6], st.a[i:i + 6])
         xt, vt, at = np.empty(3), np.empty(3), np.empty(3)
-        tow_point_state(m.rigid, st.q[i:i + 6], st.v[i:i + 6], st.a[i:i + 6], xt, vt, at)
+        tow_point_state(link.body, st.q[i:i + 6], st.v[i:i + 6], st.a[i:i + 6], xt, vt, at)
         d = st.q[p:p + 3] - xt
-        force = m.rigid_k * d + m.rigid_c * (st.v[p:p + 3] - vt)
+        force = link.k * d + link.c * (st.v[p:p + 3] - vt)
         return {"position": st.q[i:i + 3].copy(), "velocity": st.v[i:i + 3].copy(),
                 "attitude": st.q[i + 3:i + 6].copy(), "rotation": rot, "angular_velocity": w,
-                "angular_momentum": rot @ (m.rigid.inertia @ w), "tow_point": xt, "cable_force": force,
+                "angular_momentum": rot @ (link.body.inertia @ w), "tow_point": xt, "cable_force": force,
                 "link_stretch": float(np.linalg.norm(d))}
 
     def set_body_motion(self, velocity: Iterable[float] | None = None,
@@ -636,10 +637,10 @@ class Simulation:
         SolverError
             If the accelerations are not finite.
         """
-        m, st = self.model, self.state
-        if not m.rigid.enabled or not self._initialized:
+        link, st = self.model.terms.rigid_link, self.state
+        if not link.enabled or not self._initialized:
             raise ValueError("set_body_motion needs an initialised scene with a rigid towed body")
-        i = m.rigid_index
+        i = link.index
         v = st.v.copy()
         if velocity is not None:
             v[i:i + 3] = np.asarray(velocity, dtype=float)
@@ -647,7 +648,7 @@ class Simulation:
             _, g, _, _ = angular_kinematics(st.q[i:i + 6], v[i:i + 6], st.a[i:i + 6])
             v[i + 3:i + 6] = np.linalg.solve(g, np.asarray(angular_velocity, dtype=float))
         xt, vt, at = np.empty(3), np.empty(3), np.empty(3)
-        tow_point_state(m.rigid, st.q[i:i + 6], v[i:i + 6], st.a[i:i + 6], xt, vt, at)
+        tow_point_state(link.body, st.q[i:i + 6], v[i:i + 6], st.a[i:i + 6], xt, vt, at)
         v[i - 6:i - 3] = vt
         return self.set_coordinates(st.q.copy(), v)
 
@@ -671,8 +672,8 @@ class Simulation:
         ends = np.zeros((2, 4))
         lowest = np.zeros(2)
         energy = np.zeros(2)
-        dist = np.zeros((4 * int(m.hydro.el_npts.sum()), 3))
-        rows = surface_summary(m.contact, m.el_len, m.hydro.el_d, m.hydro.el_npts, self.state.q, self.state.v,
+        dist = np.zeros((4 * int(m.el_npts.sum()), 3))
+        rows = surface_summary(m.terms.contact, m.el_len, m.el_d, m.el_npts, self.state.q, self.state.v,
                                self.workspace.ship, force, span, ends, lowest, energy, dist)
         return {"force": force, "span": span, "ends": ends, "lowest": lowest, "energy": energy,
                 "distribution": dist[:rows]}
@@ -764,7 +765,7 @@ class Simulation:
         index = self.layout.index
         values = np.empty((n + 1, index.size))
         values[0] = self._output_array()[index]
-        loads = [self._load_outputs()] if self.model.load_on else None
+        loads = [self._load_outputs()] if self.model.terms.rigid_load.enabled else None
         # one drive table and one compiled call per about a second of samples (per sample
         # when the set-point needs the measured angle of the latest state); the same knots
         # as advance()

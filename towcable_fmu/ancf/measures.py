@@ -6,7 +6,8 @@ import numpy as np
 from numba import njit
 
 from .axial import axial_strains, slope_derivatives
-from .system import CableModel, residual_span
+from .model import CableModel
+from .system import residual_span
 
 #: Entries of the array returned by :func:`summary`.
 SUMMARY_FIELDS = ("reaction_top", "reaction_bottom", "tension_first", "tension_last", "tension_max",

@@ -7,65 +7,20 @@ compiled kernels only do per-step work.
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 
-from ..hydro.cable import CableHydro
-from ..hydro.loading import LOADINGS
-from ..hydro.scene_data import build_body, build_water
+from ..hydro.scene_data import build_water
 from ..rigid_body import NDOF as RIGID_NDOF
 from ..rigid_body import ROW_TOW, build_rigid_body
 from ..scene.model import End, Scene
 from . import element
-from ..contact.surfaces import CYLINDER, RIM, SHEAVE, WALL_MINUS, WALL_PLUS, WINCH, ContactModel, no_contact
+from .forces import build_terms
+from .forces.rigid_link import RIGID_LINK_FACTOR
+from .model import CableModel, Mesh
 from .prescribed import FIXED_POINT, FIXED_SLOPE, SHIP_POINT, SHIP_SLOPE, WINCH_POINT
-from .system import CableModel
 
 #: Gauss points per element for the axial force (exact for its polynomial integrands).
 AXIAL_GAUSS_POINTS = 5
-
-#: Stiffness of the link between the cable's last node and a rigid body's tow point, as
-#: a multiple of the axial stiffness EA/L of the last element [-]. The link then stretches
-#: 1/100 as much as that element under the same force (T/k; 5e-9 m in the free-decay
-#: test, 0.5 mm at the 30 kN of the sea-trial body); tests/test_rigid_towbody.py shows
-#: the results do not move beyond their tolerances when the factor changes tenfold
-#: either way. The link mode (the last node's mass on k) lies far above any resolved
-#: frequency; the implicit integrator damps it numerically, and a damper
-#: c = 2 sqrt(k m_N) (critical for that node's mass m_N) damps it physically. Newton
-#: measures the corrections at the link's ends by the force they make in it (see
-#: ``free_scale`` below). A stiffer link would raise the round-off floor of the residual
-#: (k eps |X|) towards the statics tolerance on short, stiff cables.
-RIGID_LINK_FACTOR = 100.0
-
-
-@dataclasses.dataclass(frozen=True)
-class Mesh:
-    """Element layout of the cable.
-
-    Attributes
-    ----------
-    lengths
-        Unstretched element lengths [m], shape (ne,).
-    segment_of_element
-        Index of the segment each element belongs to, shape (ne,).
-    node_arc
-        Unstretched arc length of every node from the top end [m], shape (ne + 1,).
-    """
-
-    lengths: np.ndarray
-    segment_of_element: np.ndarray
-    node_arc: np.ndarray
-
-    @property
-    def n_elements(self) -> int:
-        """Number of elements."""
-        return int(self.lengths.shape[0])
-
-    @property
-    def n_nodes(self) -> int:
-        """Number of nodes."""
-        return self.n_elements + 1
 
 
 def build_mesh(scene: Scene) -> Mesh:
@@ -135,10 +90,8 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
     if scene.towbody is not None and not body6.enabled:
         node_mass[-1, :] += scene.towbody.mass
     f_const[2:6 * nn:6] -= node_mass[:, 2] * g
-    load_mass = np.zeros(3)
     if rigid is not None:
         kappa = rigid.length_pg / rigid.length_pi
-        load_mass[:] = (2.0 * rigid.mass * (1.0 - kappa), rigid.mass * (kappa - 1.0), rigid.mass)
         f_const[6 * (nn - 1) + 2] -= rigid.mass * g * (1.0 - kappa)  # weight at G, shared by P and I
         f_const[6 * nn + 2] -= rigid.mass * g * kappa
 
@@ -164,24 +117,20 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
         scale[free_dofs >= 6 * nn + 3] = max(1.0, RIGID_LINK_FACTOR * arm / el_len[-1])   # body's angles
 
     gx, gw = element.gauss_legendre(AXIAL_GAUSS_POINTS)
-    water = build_water(scene)
-    link_k = RIGID_LINK_FACTOR * el_ea[-1] / el_len[-1]
-    link_c = 2.0 * np.sqrt(link_k * (el_mass[-1, 2, 2] + node_mass[-1, 0]))
-    return CableModel(
+    model = CableModel(
         el_len=el_len, el_ea=el_ea, el_tension_only=el_tension_only, el_mass=el_mass, el_bend=el_bend,
-        el_damp=el_damp, f_const=f_const, node_mass=node_mass,
+        el_damp=el_damp, el_d=np.array([p.diameter for p in props]),
+        el_npts=np.array([p.integration_points for p in props], dtype=np.int64),
+        f_const=f_const, node_mass=node_mass,
         gauss_dn=element.shape_derivatives(gx, 1.0), gauss_w=gw,
         free_idx=free_idx, free_dofs=free_dofs.astype(np.int64), free_scale=scale, kl=width, ku=width,
         att_index=np.array([a[0] for a in att], dtype=np.int64),
         att_kind=np.array([a[1] for a in att], dtype=np.int64),
         att_vec=np.array([a[2] for a in att], dtype=float).reshape(-1, 3),
         att_radius=np.array([winch_radius(scene) if kind == WINCH_POINT else 0.0 for _, kind, _ in att]),
-        water=water, hydro=build_cable_hydro(scene, mesh, water.enabled), body=build_body(scene, 6 * (nn - 1)),
-        contact=build_contact(scene),
-        load_on=rigid is not None, load_index=6 * nn, load_mass=load_mass,
-        load_k=0.0 if rigid is None else rigid.stiffness, load_length=1.0 if rigid is None else rigid.length_pi,
-        rigid=body6, rigid_index=6 * nn, rigid_k=link_k, rigid_c=link_c, gravity=g,
+        water=build_water(scene), gravity=g, terms=(),
     )
+    return model._replace(terms=build_terms(scene, mesh, model))
 
 
 def held_load_forces(scene: Scene, model: CableModel) -> np.ndarray:
@@ -214,7 +163,7 @@ def held_load_forces(scene: Scene, model: CableModel) -> np.ndarray:
     hold = -(weight - (weight @ e) * e)  # the holder takes the weight's component normal to the rope
     kappa = load.length_pg / load.length_pi
     forces = model.f_const.copy()
-    p, i = model.load_index - 6, model.load_index
+    p, i = model.terms.rigid_load.index - 6, model.terms.rigid_load.index
     forces[p:p + 3] += (1.0 - kappa) * hold
     forces[i:i + 3] += kappa * hold
     return forces
@@ -228,50 +177,3 @@ def winch_radius(scene: Scene) -> float:
     drum instead of inside it, and the payout per radian of winch rotation is r_w + d/2.
     """
     return scene.winch.radius + 0.5 * scene.cable.segments[0].diameter
-
-
-def build_contact(scene: Scene) -> ContactModel:
-    """Contact faces of the drum and the sheave (disabled when the scene has neither)."""
-    faces = []  # (surface, kind, centre, radius, depth, cos, sin, opening, rim width, law)
-    if scene.winch is not None:
-        w = scene.winch
-        faces.append((WINCH, CYLINDER, w.position, w.radius, 0.0, 1.0, 0.0, 0.0, 0.0, w.contact))
-    # the sheave, then each idler as a surface of its own (ids 2, 3, ...: its own reach test;
-    # the outputs summarise the winch and the sheave only)
-    sheaves = [] if scene.sheave is None else [scene.sheave, *scene.idlers]
-    for surface, sh in enumerate(sheaves, start=SHEAVE):
-        if sh.shape == "cylinder":
-            faces.append((surface, CYLINDER, sh.position, sh.radius, 0.0, 1.0, 0.0, 0.0, 0.0, sh.contact))
-        else:
-            half = np.radians(sh.throat_angle) / 2.0
-            opening = sh.groove_depth * np.tan(half)
-            for kind in (WALL_PLUS, WALL_MINUS, RIM):
-                faces.append((surface, kind, sh.position, sh.radius, sh.groove_depth, np.cos(half), np.sin(half),
-                              opening, sh.rim_width, sh.contact))
-    if not faces:
-        return no_contact()
-
-    def column(k: int) -> np.ndarray:
-        return np.array([f[k] for f in faces], dtype=float)
-
-    return ContactModel(
-        True, np.array([f[0] for f in faces], dtype=np.int64), np.array([f[1] for f in faces], dtype=np.int64),
-        column(2), column(3), column(4), column(5), column(6), column(7), column(8),
-        np.array([f[9].stiffness for f in faces]), np.array([f[9].exponent for f in faces]),
-        np.array([f[9].damping for f in faces]), np.zeros(1, dtype=np.int64))
-
-
-def build_cable_hydro(scene: Scene, mesh: Mesh, wet: bool) -> CableHydro:
-    """Per-element hydrodynamic properties (all elements off in a dry scene)."""
-    props = [scene.cable.segments[i] for i in mesh.segment_of_element]
-    d = np.array([p.diameter for p in props])
-    return CableHydro(
-        el_on=np.array([wet and p.fluid_loads for p in props], dtype=bool),
-        el_kind=np.array([LOADINGS[p.loading] for p in props], dtype=np.int64),
-        el_d=d, el_area=np.pi * d**2 / 4.0,
-        el_cd=np.array([p.drag_coefficient or 0.0 for p in props]),
-        el_g=np.array([p.drag_amplification for p in props]),
-        el_cm=np.array([p.added_mass_coefficient for p in props]),
-        el_npts=np.array([p.integration_points for p in props], dtype=np.int64),
-        calls=np.zeros(1, dtype=np.int64),
-    )

@@ -44,8 +44,9 @@ _TINY = 1e-12
 
 
 class CableHydro(NamedTuple):
-    """Per-element hydrodynamic properties."""
+    """Per-element hydrodynamic properties (``enabled`` False: a dry scene)."""
 
+    enabled: bool
     el_on: np.ndarray      #: (ne,) bool: element can carry hydrodynamic loads
     el_kind: np.ndarray    #: (ne,) loading functions (loading.BARE / FAIRED)
     el_d: np.ndarray       #: (ne,) diameter [m]
@@ -188,8 +189,9 @@ def add_residual(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
 
 @njit(cache=True)
 def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarray, v: np.ndarray, t: float,
-                 e: int, ca: float, cv: float, cq: float, ke: np.ndarray) -> None:
-    """Add element e's hydrodynamic part of ``ca M + cv C + cq K`` to the 12x12 block ``ke``.
+                 e: int, ca: float, cv: float, cq: float, ke: np.ndarray) -> bool:
+    """Add element e's hydrodynamic part of ``ca M + cv C + cq K`` to the 12x12 block ``ke``;
+    False (nothing added) for a dry element or one without hydrodynamic loads.
 
     Added mass exactly (W(74)); derivatives of the point load with respect to the point
     velocity, the cable direction and the depth (depth-dependent current) by finite
@@ -197,11 +199,11 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
     the wet length.
     """
     if not hy.el_on[e]:
-        return
+        return False
     base = 6 * e
     length = el_len[e]
     if _is_dry(w, q, base, length):
-        return
+        return False
     npts = hy.el_npts[e]
     m = 2 * npts
     xi = np.empty(m)
@@ -256,3 +258,4 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
         dg[:, 2] = -1.0  # g = surface - z
         crossing_stiffness(length, npts, cq, xi, g, dg, cross, fpt, count, ke)
     hy.calls[0] += 8 * count
+    return True

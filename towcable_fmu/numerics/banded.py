@@ -44,6 +44,26 @@ def band_add_block(ab: np.ndarray, kl: int, ku: int, free_idx: np.ndarray, base:
 
 
 @njit(cache=True)
+def band_add_scattered(ab: np.ndarray, kl: int, ku: int, free_idx: np.ndarray, coords: np.ndarray,
+                       block: np.ndarray) -> None:
+    """Add a square block acting on the coordinates ``coords`` (in any order) to the banded
+    matrix of the unknowns; as :func:`band_add_block` otherwise."""
+    off = kl + ku
+    k = block.shape[0]
+    for i in range(k):
+        fi = free_idx[coords[i]]
+        if fi < 0:
+            continue
+        for j in range(k):
+            fj = free_idx[coords[j]]
+            if fj < 0:
+                continue
+            val = block[i, j]
+            if val != 0.0:
+                ab[off + fi - fj, fj] += val
+
+
+@njit(cache=True)
 def band_lu(ab: np.ndarray, n: int, kl: int, ku: int, ipiv: np.ndarray) -> int:
     """Factorise the banded matrix in place: ``P A = L U``.
 

@@ -51,7 +51,8 @@ import numpy as np
 from numba import njit
 
 from ..ancf.prescribed import apply_prescribed
-from ..ancf.system import CableModel, iteration_matrix, residual
+from ..ancf.model import CableModel
+from ..ancf.system import iteration_matrix, residual
 from ..drive import evaluate_drive
 from .banded import band_lu, band_solve
 

@@ -24,7 +24,8 @@ import time
 import numpy as np
 
 from ..ancf.prescribed import apply_prescribed
-from ..ancf.system import CableModel, iteration_matrix, residual
+from ..ancf.model import CableModel
+from ..ancf.system import iteration_matrix, residual
 from ..errors import SolverError
 from .banded import band_lu, band_positive_pivots, band_solve
 

@@ -13,9 +13,9 @@ Over a cable step from t_n to t_n+1 = t_n + h:
 
 The loads lag the exact coupled solution by O(h^2) per unit time (the predictor's error);
 tests/test_viv.py checks that halving the step changes the lock-in amplitude by less
-than 1 %. The load enters the residual through the constant-load vector of the model
-(``f_const``, gravity plus the wake load), so the compiled assembly is untouched and a
-scene without ``[viv]`` runs exactly as before.
+than 1 %. The load enters the residual as the model's wake term
+(:mod:`towcable_fmu.ancf.forces.wake`), a given external load over the step; a scene
+without ``[viv]`` has that term disabled.
 """
 
 from __future__ import annotations
@@ -41,13 +41,13 @@ class WakeCoupling:
         Segment index of every element, shape (ne,).
     lengths
         Element lengths [m], shape (ne,).
-    f_const
-        The model's constant generalised load vector (gravity) [N]: kept as the base, and
-        overwritten with base + wake load before every cable step.
+    load
+        The wake term's generalised load vector [N], shape (nf,): overwritten with the wake
+        load before every cable step.
     """
 
     def __init__(self, scene: Scene, segment_of_element: np.ndarray, lengths: np.ndarray,
-                 f_const: np.ndarray) -> None:
+                 load: np.ndarray) -> None:
         viv = scene.viv
         segs = scene.cable.segments
         self.elements = np.flatnonzero(np.isin(segment_of_element, viv.segments)).astype(np.int64)
@@ -73,8 +73,8 @@ class WakeCoupling:
                                              viv.cd0, viv.cl0)
         self.a1, self.a2, self.a3 = viv.a1, viv.a2, viv.a3
         self._w0 = viv.initial_w
-        self._f_const = f_const
-        self._f_base = f_const.copy()
+        self._load = load
+        self._nodes = lengths.size + 1
         m = self.nodes.size
         self.w = np.zeros(m)
         self.wd = np.zeros(m)
@@ -87,11 +87,11 @@ class WakeCoupling:
         """Wake at its initial value (w = initial_w, w' = 0) and no wake load."""
         self.w[:] = self._w0
         self.wd[:] = 0.0
-        self._f_const[:] = self._f_base
+        self._load[:] = 0.0
 
     def get_state(self) -> dict[str, Any]:
         """Wake variables and the load in force, JSON-able."""
-        return {"w": self.w.tolist(), "wd": self.wd.tolist(), "f_const": self._f_const.tolist()}
+        return {"w": self.w.tolist(), "wd": self.wd.tolist(), "load": self._load.tolist()}
 
     def set_state(self, data: Mapping[str, Any]) -> None:
         """Restore :meth:`get_state` data."""
@@ -100,12 +100,12 @@ class WakeCoupling:
             raise SceneError("state.viv.w", f"{w.size} values", f"{self.w.size} (one per wake node)")
         self.w[:] = w
         self.wd[:] = np.asarray(data["wd"], dtype=float)
-        self._f_const[:] = np.asarray(data["f_const"], dtype=float)
+        self._load[:] = np.asarray(data["load"], dtype=float)
 
     # ------------------------------------------------------------- coupling
     def cross_flow_velocity(self, v: np.ndarray) -> np.ndarray:
         """Cross-flow component of a full coordinate-rate vector at the wake nodes, shape (m,)."""
-        nn = self._f_base.size // 6
+        nn = self._nodes
         return v[:6 * nn].reshape(-1, 6)[self.nodes, :3] @ self.e_cf
 
     def predict(self, v: np.ndarray, a: np.ndarray, h: float) -> None:
@@ -126,9 +126,8 @@ class WakeCoupling:
         wdd = np.empty_like(w)
         wake_acceleration(w, wd, yd1, self.a1, self.a2, self.a3, self.omega, self.diameter, wdd)
         nodal_forces(wd, wdd, self.k_sw, self.k_cf, self.e_sw, self.e_cf, self._fnode)
-        load = self._f_const
-        load[:] = self._f_base
-        add_generalised(self._fnode, self.elements, self.node_a, self.node_b, self.table, load)
+        self._load[:] = 0.0
+        add_generalised(self._fnode, self.elements, self.node_a, self.node_b, self.table, self._load)
 
     def correct(self, v: np.ndarray, h: float) -> None:
         """Corrector: advance the wake over the step just taken with the cable's velocity

@@ -1,0 +1,74 @@
+"""Force term: contact of the cable with the winch drum and the sheave (and its idlers).
+
+Penalty contact of the cable's surface with the faces of each surface (a cylinder, or
+a grooved sheave's two walls and rim), integrated along each element
+(:mod:`towcable_fmu.contact.cable`); the surfaces move with the ship.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ...contact import cable as cable_contact
+from ...contact.surfaces import CYLINDER, RIM, SHEAVE, WALL_MINUS, WALL_PLUS, WINCH, ContactModel, no_contact
+from ...scene.model import Scene
+from ..model import CableModel, Mesh, Motion
+
+NAME = "contact"
+Data = ContactModel
+
+
+def build(scene: Scene, mesh: Mesh, model: CableModel) -> ContactModel:
+    """Contact faces of the drum and the sheave (disabled when the scene has neither)."""
+    return build_contact(scene)
+
+
+def build_contact(scene: Scene) -> ContactModel:
+    """The faces of the drum, the sheave and its idlers as the kernels read them."""
+    faces = []  # (surface, kind, centre, radius, depth, cos, sin, opening, rim width, law)
+    if scene.winch is not None:
+        w = scene.winch
+        faces.append((WINCH, CYLINDER, w.position, w.radius, 0.0, 1.0, 0.0, 0.0, 0.0, w.contact))
+    # the sheave, then each idler as a surface of its own (ids 2, 3, ...: its own reach test;
+    # the outputs summarise the winch and the sheave only)
+    sheaves = [] if scene.sheave is None else [scene.sheave, *scene.idlers]
+    for surface, sh in enumerate(sheaves, start=SHEAVE):
+        if sh.shape == "cylinder":
+            faces.append((surface, CYLINDER, sh.position, sh.radius, 0.0, 1.0, 0.0, 0.0, 0.0, sh.contact))
+        else:
+            half = np.radians(sh.throat_angle) / 2.0
+            opening = sh.groove_depth * np.tan(half)
+            for kind in (WALL_PLUS, WALL_MINUS, RIM):
+                faces.append((surface, kind, sh.position, sh.radius, sh.groove_depth, np.cos(half), np.sin(half),
+                              opening, sh.rim_width, sh.contact))
+    if not faces:
+        return no_contact()
+
+    def column(k: int) -> np.ndarray:
+        return np.array([f[k] for f in faces], dtype=float)
+
+    return ContactModel(
+        True, np.array([f[0] for f in faces], dtype=np.int64), np.array([f[1] for f in faces], dtype=np.int64),
+        column(2), column(3), column(4), column(5), column(6), column(7), column(8),
+        np.array([f[9].stiffness for f in faces]), np.array([f[9].exponent for f in faces]),
+        np.array([f[9].damping for f in faces]), np.zeros(1, dtype=np.int64))
+
+
+# IR-inlined into the assembly: a kernel of its own would be one more library for the
+# assembly to link and optimise again, with all the code beneath it.
+@njit(cache=True, inline="always")
+def residual(term: ContactModel, model: CableModel, motion: Motion, a: np.ndarray, first: int, stop: int,
+             out: np.ndarray) -> None:
+    """Subtract the contact forces of the elements ``first`` to ``stop - 1``."""
+    cable_contact.add_residual(term, model.el_len, model.el_d, model.el_npts, motion.q, motion.v, motion.ship,
+                               first, stop, out)
+
+
+@njit(cache=True, inline="always")  # (as residual)
+def tangent(term: ContactModel, model: CableModel, motion: Motion, ca: float, cv: float, cq: float,
+            ab: np.ndarray) -> None:
+    """The contact part of ``cv C + cq K`` (element blocks, see :func:`~towcable_fmu.contact.cable.add_jacobian`)."""
+    cable_contact.add_jacobian(term, model.el_len, model.el_d, model.el_npts, motion.q, motion.v, motion.ship,
+                               model.free_idx, model.kl, model.ku, cv, cq, ab)
+
