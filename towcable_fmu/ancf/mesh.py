@@ -11,7 +11,6 @@ import numpy as np
 
 from ..hydro.scene_data import build_water
 from ..rigid_body import NDOF as RIGID_NDOF
-from ..rigid_body import ROW_TOW, build_rigid_body
 from ..scene.model import End, Scene
 from . import element
 from .forces import build_terms
@@ -68,8 +67,8 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
     segs = scene.cable.segments
     ne, nn = mesh.n_elements, mesh.n_nodes
     rigid = scene.load
-    body6 = build_rigid_body(scene)
-    nf = 6 * nn + (3 if rigid is not None else 0) + (RIGID_NDOF if body6.enabled else 0)
+    rigid_body = scene.towbody is not None and scene.towbody.model == "rigid"  # six coordinates of its own
+    nf = 6 * nn + (3 if rigid is not None else 0) + (RIGID_NDOF if rigid_body else 0)
     g = scene.environment.gravity
     el_len = mesh.lengths.copy()
     props = [segs[i] for i in mesh.segment_of_element]
@@ -87,7 +86,7 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
     node_mass = np.zeros((nn, 3))
     node_mass[0, :] += scene.cable.top.mass
     node_mass[-1, :] += scene.cable.bottom.mass
-    if scene.towbody is not None and not body6.enabled:
+    if scene.towbody is not None and not rigid_body:
         node_mass[-1, :] += scene.towbody.mass
     f_const[2:6 * nn:6] -= node_mass[:, 2] * g
     if rigid is not None:
@@ -103,15 +102,15 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
     free_dofs = np.flatnonzero(~prescribed)
     free_idx = np.full(nf, -1, dtype=np.int64)
     free_idx[free_dofs] = np.arange(free_dofs.size)
-    width = _band_width(free_idx, ne, body6.enabled)
+    width = _band_width(free_idx, ne, rigid_body)
     node_length = np.minimum(np.concatenate([el_len[:1], el_len]), np.concatenate([el_len, el_len[-1:]]))
     node_length = np.append(node_length, node_length[-1])  # the load's point I scales like the last node
     scale = np.where(free_dofs % 6 < 3, 1.0 / node_length[np.minimum(free_dofs // 6, nn)], 1.0)
-    if body6.enabled:
+    if rigid_body:
         # Newton's corrections of the link's ends, measured by the force they make in the
         # link (k dq against EA newton_tol, as for the elements): the last node's position
         # and the CG RIGID_LINK_FACTOR times stricter, the angles by the tow point's arm
-        arm = float(np.linalg.norm(body6.axes[ROW_TOW]))
+        arm = float(np.linalg.norm(scene.towbody.rigid.tow_point))
         ends = (free_dofs >= 6 * (nn - 1)) & (free_dofs % 6 < 3)     # last node's position, body's CG
         scale[ends] = RIGID_LINK_FACTOR / el_len[-1]
         scale[free_dofs >= 6 * nn + 3] = max(1.0, RIGID_LINK_FACTOR * arm / el_len[-1])   # body's angles
