@@ -40,10 +40,19 @@ def test_frames_start_at_the_statics_and_follow_the_run(flume_run):
     reference.initialize()
     np.testing.assert_array_equal(frames.nodes[0], reference.node_positions())
     plain = reference.run(1.0, interval=0.05)
-    # the same outputs as a run without frames, and the last frame is its final state
+    # the same outputs as a run without frames, and the last frame is its final state. The
+    # pieces land exactly on the frame times, where the single run's time has accumulated
+    # round-off: the two differ by round-off carried through Newton's tolerance, which acts
+    # on the balance of the largest forces (or the largest values of the unit), not on each
+    # signal's own size (a free end's 8 mN tension differs by 1e-11 N in a cable pulling 32 mN)
     assert list(series) == list(plain)
+    scale = {}
     for name in plain:
-        np.testing.assert_allclose(series[name], plain[name], rtol=1e-9, atol=1e-12, err_msg=name)
+        unit = reference.unit_of(name)
+        scale[unit] = max(scale.get(unit, 0.0), float(np.abs(plain[name]).max()))
+    for name in plain:
+        np.testing.assert_allclose(series[name], plain[name], rtol=1e-9, atol=1e-9 * scale[reference.unit_of(name)],
+                                   err_msg=name)
     np.testing.assert_allclose(frames.nodes[-1], reference.node_positions(), rtol=1e-9, atol=1e-12)
     # the cable moved between the frames, and the centreline passes through the nodes
     assert np.abs(frames.nodes[-1] - frames.nodes[0]).max() > 1e-4

@@ -370,11 +370,15 @@ def test_local_worker_killed_mid_case_is_retried(tmp_path):
         # both workers warm up alike, then take a case each: once the first (failing, a few
         # milliseconds) case has its row, the other worker is in the middle of a case of 60 s
         # simulated (a second or more); kill a worker that keeps using CPU half a second later
+        # and has not finished a case meanwhile (on a loaded machine the other case can end
+        # within that half second: its worker is idle then, not mid-case)
         if not table.exists() or len(table.read_text(encoding="utf-8").splitlines()) < 2:
             return []
         used = {p.pid: sum(p.cpu_times()[:2]) for p in procs}
         time.sleep(0.5)
-        return [p.pid for p in procs if p.is_running() and sum(p.cpu_times()[:2]) > used[p.pid] + 0.05]
+        finished = {(r.get("worker") or ":").split(":")[1] for r in read_table(table) if r.get("status") == "ok"}
+        return [p.pid for p in procs if p.is_running() and sum(p.cpu_times()[:2]) > used[p.pid] + 0.05
+                and str(p.pid) not in finished]
 
     killed = _kill_soon(workers, busy)
     thread.join(timeout=300)
