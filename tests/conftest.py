@@ -77,3 +77,13 @@ def host(tmp_path_factory):
     subprocess.run([native.c_compiler(), "-O1", "-g", "-Wall", "-Wextra", "-Werror", f"-I{native.fmi_headers()}",
                     str(Path(__file__).parent / "c_host" / "fmu_host.c"), "-o", str(exe), "-ldl", "-lm"], check=True)
     return exe
+
+
+@pytest.fixture(scope="session", autouse=True)
+def model_kernels():
+    """The ANCF and nodal-position kernels compiled once, on every core, before the first
+    test needs them (as the command line does on its first run)."""
+    from towcable_fmu.models import KERNEL_SOURCES
+    from towcable_fmu.parallel_compile import compile_kernels
+
+    assert compile_kernels(KERNEL_SOURCES["ancf"] + KERNEL_SOURCES["nodal_position"]) == []

@@ -16,7 +16,7 @@ from typing import Sequence
 
 from . import contract, kernel_cache
 from .errors import TowcableError
-from .models import model_kind, simulation_for
+from .models import KERNEL_SOURCES, model_kind, simulation_for
 from .run_io import Progress, write_csv
 from .scene import builtin_scene_names, load_scene, parse_override
 
@@ -26,7 +26,16 @@ def _overrides(values: Sequence[str] | None) -> list[tuple[str, object]]:
 
 
 def _simulation(args: argparse.Namespace):
-    return simulation_for(load_scene(args.scene, _overrides(args.set)))
+    scene = load_scene(args.scene, _overrides(args.set))
+    _compile_kernels(model_kind(scene))
+    return simulation_for(scene)
+
+
+def _compile_kernels(kind: str) -> None:
+    """Compile the kernels of a model kind on every core if they are not cached yet."""
+    from .parallel_compile import compile_ahead
+
+    compile_ahead(KERNEL_SOURCES.get(kind, ()))
 
 
 def cmd_scenes(args: argparse.Namespace) -> int:
@@ -116,6 +125,7 @@ def cmd_cosim(args: argparse.Namespace) -> int:
     """Co-simulate ShipMotion -> HeaveCompensation -> TowCable through the FMUs (fmpy)."""
     from .cosim import CosimConfig, run_cosim, write_results
 
+    _compile_kernels(model_kind(load_scene(args.scene, _overrides(args.set))))
     config = CosimConfig(scene=args.scene, overrides=_overrides(args.set), compensation=args.compensation,
                          duration=args.duration, step=args.step, motion=args.motion, winch_radius=args.winch_radius,
                          phi_nom=args.phi_nom, theta_nom=args.theta_nom,

@@ -142,9 +142,11 @@ class CompileWatch(event.Listener):
 WATCH = CompileWatch()
 
 
-def print_compile_notice() -> None:
-    """The command line's notice, printed to stderr when the first kernel compiles."""
-    print("compiling the numerical kernels (first run only; cached in "
+def print_compile_notice(processes: int = 1) -> None:
+    """The command line's notice, printed to stderr when the first kernel compiles (on
+    ``processes`` processes)."""
+    where = f" on {processes} processes" if processes > 1 else ""
+    print(f"compiling the numerical kernels{where} (first run only; cached in "
           f"{cache_root() / 'kernels'})...", file=sys.stderr, flush=True)
 
 

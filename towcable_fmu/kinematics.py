@@ -109,9 +109,8 @@ def ship_point_kinematics(ship: np.ndarray, s: np.ndarray) -> np.ndarray:
     """
     r, r1, r2 = rotation_derivatives(ship)
     out = np.empty((3, 3))
-    for k in range(3):
-        out[k] = ship[k, 0:3]
-    out[0] += r @ s
-    out[1] += r1 @ s
-    out[2] += r2 @ s
+    for i in range(3):  # element loops: no shape checks (whose error formatting takes seconds to compile)
+        out[0, i] = ship[0, i] + r[i, 0] * s[0] + r[i, 1] * s[1] + r[i, 2] * s[2]
+        out[1, i] = ship[1, i] + r1[i, 0] * s[0] + r1[i, 1] * s[1] + r1[i, 2] * s[2]
+        out[2, i] = ship[2, i] + r2[i, 0] * s[0] + r2[i, 1] * s[1] + r2[i, 2] * s[2]
     return out

@@ -19,6 +19,12 @@ def model_kind(scene: Any) -> str:
     return scene.cable.formulation
 
 
+#: Modules listing each model's kernels (``kernel_jobs()``, see
+#: :mod:`towcable_fmu.parallel_compile`); a model not listed compiles as it runs.
+KERNEL_SOURCES = {"ancf": ("towcable_fmu.simulation_kernels",),
+                  "nodal_position": ("towcable_fmu.nodal.simulation_kernels",)}
+
+
 def simulation_from(name_or_path: str | Path,
                     overrides: Mapping[str, Any] | Iterable[tuple[str, Any]] = ()) -> CableSimulation:
     """A new, uninitialised simulation of a built-in scene (by name) or a scene file, with

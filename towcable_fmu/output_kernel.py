@@ -92,10 +92,10 @@ def _departure_angle(ux: float, uz: float) -> float:
     return math.atan2(-ux, -uz)
 
 
-# IR-inlined into advance_recording, the one compiled call that steps and reads outputs
-# (Simulation reads the outputs of a state through it): a kernel of its own would be one
-# more library linking and optimising the residual and contact code beneath it again.
-@njit(cache=True, inline="always")
+# A kernel of its own, called by advance_recording (Simulation reads the outputs of a state
+# through that): the first run compiles it in parallel with the integrator
+# (towcable_fmu.parallel_compile).
+@njit(cache=True)
 def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, phi: np.ndarray, t: float,
                   ship: np.ndarray, xi: np.ndarray, body_mass: float, has_winch: bool,
                   sheave_position: np.ndarray, payout_radius: float, phi_nom: float, r: np.ndarray) -> np.ndarray:
@@ -314,7 +314,7 @@ def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive
         t_s = samples[k]
         t = st.clock[CLOCK_TIME]
         tol = 1e-12 * max(1.0, abs(t_s))
-        if t_s > t + tol:  # (one call site of the IR-inlined integrator)
+        if t_s > t + tol:
             target = t_land if interpolate else t_s
             if genalpha_advance(model, opt, st, ws, target, drive_t, drive_x, interpolate) != 0:
                 return k

@@ -152,7 +152,9 @@ def band_positive_pivots(ab: np.ndarray, n: int, kl: int, ku: int, work: np.ndar
     (same shape) is overwritten.
     """
     kv = kl + ku
-    work[:, :] = ab
+    for i in range(ab.shape[0]):  # element copy: no shape check (whose error formatting takes a second to compile)
+        for j in range(ab.shape[1]):
+            work[i, j] = ab[i, j]
     for j in range(n):
         piv = work[kv, j]
         if not piv > 0.0:

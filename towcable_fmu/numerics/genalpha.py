@@ -386,9 +386,9 @@ def _restore(st, ws):
     st.phi[:] = ws.phi0
 
 
-# IR-inlined into towcable_fmu.output_kernel.advance_recording, the one compiled call
-# Simulation steps with (a kernel of its own would link and optimise everything again).
-@njit(cache=True, inline="always")
+# A kernel of its own (not IR-inlined into towcable_fmu.output_kernel.advance_recording):
+# the first run compiles it in parallel with the output kernel (towcable_fmu.parallel_compile).
+@njit(cache=True)
 def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Workspace, t_end: float,
             drive_t: np.ndarray, drive_x: np.ndarray, one_step: bool) -> int:
     """Integrate from the state's time to ``t_end`` (landing on it exactly), or with

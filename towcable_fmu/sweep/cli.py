@@ -9,10 +9,15 @@ from pathlib import Path
 
 def cmd_sweep(args: argparse.Namespace) -> int:
     """Run the missing cases of a sweep and print where the table is."""
+    from ..models import KERNEL_SOURCES, model_kind
+    from ..parallel_compile import compile_ahead
+    from ..scene import load_scene
     from .execute import run_sweep
     from .spec import load_spec
 
     spec = load_spec(args.spec)
+    # once here, on every core, rather than in each worker at the same time
+    compile_ahead(KERNEL_SOURCES.get(model_kind(load_scene(spec.settings.scene)), ()), echo=not args.quiet)
     report = run_sweep(spec, workers=args.workers, scheduler=args.scheduler, retry_failed=args.retry_failed,
                        progress=not args.quiet, output=Path(args.output) if args.output else None)
     print(f"{report.table}: {report.total} cases, {report.skipped} were done before, {report.ran} run now "
