@@ -81,8 +81,9 @@ def test_a_kernel_numba_cannot_cache_warns_and_runs(tmp_path, monkeypatch):
     import ctypes
     import warnings
 
-    from numba import njit
     from numba.core.errors import NumbaWarning
+
+    from towcable_fmu.kernel_cache import njit
 
     monkeypatch.setenv("TOWCABLE_CACHE_DIR", str(tmp_path))
     libm = ctypes.CDLL(None)
@@ -96,3 +97,23 @@ def test_a_kernel_numba_cannot_cache_warns_and_runs(tmp_path, monkeypatch):
         warnings.simplefilter("always")
         assert kernel(0.0) == pytest.approx(2.0)
     assert any(issubclass(w.category, NumbaWarning) and "Cannot cache" in str(w.message) for w in caught)
+
+
+def test_importing_the_package_does_no_work_and_a_kernel_module_installs_the_locator():
+    """``import towcable_fmu`` (and its scene and contract modules) imports no numba; the
+    first kernel module imported puts our cache locator first and registers the watch."""
+    code = textwrap.dedent("""
+        import sys
+        import towcable_fmu, towcable_fmu.scene, towcable_fmu.contract
+        assert "numba" not in sys.modules, "numba imported"
+        from towcable_fmu.ancf import system
+        from numba.core import caching
+        impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl
+        from towcable_fmu.kernel_cache import KernelCacheLocator
+        assert impl._locator_classes[0] is KernelCacheLocator
+        assert type(system.residual._cache._impl.locator) is KernelCacheLocator
+        print("ok")
+    """)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
+                          env=dict(os.environ, PYTHONPATH=str(ROOT)), timeout=300)
+    assert proc.returncode == 0 and proc.stdout.strip() == "ok", proc.stderr

@@ -15,10 +15,12 @@ The cache root is :func:`towcable_fmu.machine_cache.cache_root` (``$TOWCABLE_CAC
 ``$NUMBA_CACHE_DIR/towcable`` or ``~/.cache/towcable``). If it cannot be written,
 numba's own locators take over (a warning says so once).
 
-:func:`install` (called by ``towcable_fmu/__init__.py``, before any kernel module is
-imported) puts the locator in front of numba's and registers :data:`WATCH`, which
-tells when the kernels compile: the command line prints "compiling the numerical
-kernels (first run only)" as it starts, an FMU logs how long it took.
+Our kernel modules decorate with this module's :func:`njit`, which first calls
+:func:`install` (once): that puts the locator in front of numba's (numba picks a
+kernel's locator when it is decorated) and registers :data:`WATCH`, which tells when the
+kernels compile: the command line prints "compiling the numerical kernels (first run
+only)" as it starts, an FMU logs how long it took. Importing ``towcable_fmu`` itself does
+no work and does not import numba.
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ import warnings
 from pathlib import Path
 from typing import Callable
 
+import numba
 from numba.core import caching, event
 
 from .machine_cache import PACKAGES, cache_root
@@ -156,3 +159,10 @@ def install() -> None:
     :data:`WATCH`. Idempotent."""
     _CACHE_IMPL._locator_classes.insert(0, KernelCacheLocator)
     event.register("numba:compile", WATCH)
+
+
+def njit(*args, **kwargs):
+    """``numba.njit`` for our kernels: :func:`install` first, so that the kernel's cache
+    is :class:`KernelCacheLocator`'s."""
+    install()
+    return numba.njit(*args, **kwargs)

@@ -17,7 +17,8 @@ plain callables from Python too.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from .kernel_cache import njit
 
 #: Column order of a ship state array.
 SHIP_DOF_NAMES = ("x", "y", "z", "roll", "pitch", "yaw")

@@ -11,10 +11,11 @@ docs/design.md ("Output names"). :class:`OutputLayout` says which of them a scen
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
+from .kernel_cache import njit
 from .ancf.measures import element_tension, point_on_cable, summary
 from .ancf.model import CableModel
 from .contact.cable import surface_summary
@@ -39,6 +40,25 @@ _TOWBODY = ("tension.towbody", "towbody.x", "towbody.y", "towbody.z", "towbody.v
 _CONTACT = ("contact.winch_force", "contact.sheave_force", "energy.contact")
 _SHEAVE = ("tension.sheave", "contact.wrap_angle", "contact.detached")
 _RIGID = ("towbody.roll", "towbody.pitch", "towbody.yaw")
+
+
+class OutputScene(NamedTuple):
+    """What the outputs need of the scene besides the model (built once per simulation)."""
+
+    #: Normalised positions per element where the tension extremes are sampled.
+    xi: np.ndarray
+    #: Mass of the lumped towed body [kg] (the cable's last node carries it, with the
+    #: cable's end mass if the scene has one); negative: no lumped towed body (a rigid
+    #: body, ``model.terms.rigid_link.enabled``, reports from its own coordinates).
+    body_mass: float
+    #: The cable's top end is on a winch drum.
+    has_winch: bool
+    #: Sheave centre in the ship frame [m], shape (3,); NaN: no sheave.
+    sheave_position: np.ndarray
+    #: Radius r_w + d/2 [m] for the payout r (phi_nom - phi).
+    payout_radius: float
+    #: Nominal winch rotation [rad].
+    phi_nom: float
 
 
 class OutputLayout:
@@ -97,8 +117,7 @@ def _departure_angle(ux: float, uz: float) -> float:
 # (towcable_fmu.parallel_compile).
 @njit(cache=True)
 def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, phi: np.ndarray, t: float,
-                  ship: np.ndarray, xi: np.ndarray, body_mass: float, has_winch: bool,
-                  sheave_position: np.ndarray, payout_radius: float, phi_nom: float, r: np.ndarray) -> np.ndarray:
+                  ship: np.ndarray, scene: OutputScene, r: np.ndarray) -> np.ndarray:
     """The outputs of a state (order: :data:`OUTPUT_FIELDS`).
 
     Parameters
@@ -107,18 +126,8 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
         The cable system and its state at time t [s] with the ship state (3, 6).
     phi
         Winch state (rotation [rad], rate, acceleration, ...).
-    xi
-        Normalised positions per element where the tension extremes are sampled.
-    body_mass
-        Mass of the lumped towed body [kg] (the cable's last node carries it, with the
-        cable's end mass if the scene has one); negative: no lumped towed body (a rigid
-        body, ``model.terms.rigid_link.enabled``, reports from its own coordinates).
-    has_winch
-        The cable's top end is on a winch drum.
-    sheave_position
-        Sheave centre in the ship frame [m], shape (3,); NaN: no sheave.
-    payout_radius, phi_nom
-        Radius r_w + d/2 [m] and nominal rotation [rad] for the payout r (phi_nom - phi).
+    scene
+        What the outputs need of the scene (:class:`OutputScene`).
     r
         Scratch, shape (nf,).
 
@@ -138,7 +147,7 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     """
     out = np.full(len(OUTPUT_FIELDS), np.nan)
     (reaction_top, reaction_bottom, t_first, t_last, t_max, t_min, kinetic, strain,
-     gravity) = summary(model, q, v, a, t, ship, xi, r)
+     gravity) = summary(model, q, v, a, t, ship, scene.xi, r)
     last = 6 * (model.node_mass.shape[0] - 1)
     top = reaction_top if model.free_idx[0] < 0 else max(t_first, 0.0)
     bottom = reaction_bottom if model.free_idx[last] < 0 else max(t_last, 0.0)
@@ -147,6 +156,7 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     out[2] = max(t_max, top, bottom)
     out[3] = t_min
     out[4] = math.atan2(math.sqrt(q[3] ** 2 + q[4] ** 2), -q[5])
+    body_mass = scene.body_mass
     if body_mass >= 0.0:
         hydro = np.zeros(3)
         if model.terms.towbody.enabled:
@@ -164,9 +174,9 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     out[21] = strain
     out[22] = gravity
     out[23] = phi[0]
-    out[24] = payout_radius * (phi_nom - phi[0])
+    out[24] = scene.payout_radius * (scene.phi_nom - phi[0])
     if model.terms.contact.enabled:
-        _contact_values(model, q, v, ship, has_winch, sheave_position, top, out)
+        _contact_values(model, q, v, ship, scene.has_winch, scene.sheave_position, top, out)
     return out
 
 
@@ -282,9 +292,8 @@ def _interpolate_state(model: CableModel, st, ws, t: float, drive_t: np.ndarray,
 
 @njit(cache=True)
 def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive_t: np.ndarray,
-                      drive_x: np.ndarray, xi: np.ndarray, body_mass: float, has_winch: bool,
-                      sheave_position: np.ndarray, payout_radius: float, phi_nom: float, index: np.ndarray,
-                      rows: np.ndarray, finite: bool, interpolate: bool, t_land: float) -> int:
+                      drive_x: np.ndarray, scene: OutputScene, index: np.ndarray, rows: np.ndarray, finite: bool,
+                      interpolate: bool, t_land: float) -> int:
     """Advance through the sample times and record the outputs ``index`` of
     :func:`output_values` (the scene's, :class:`OutputLayout`) at each.
 
@@ -327,8 +336,7 @@ def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive
         else:
             _interpolate_state(model, st, ws, t_s, drive_t, drive_x)
             q, v, a, phi, ship = ws.qs, ws.vs, ws.as_, ws.phis, ws.ships
-        values = output_values(model, q, v, a, phi, t_s, ship, xi, body_mass, has_winch,
-                               sheave_position, payout_radius, phi_nom, ws.r)
+        values = output_values(model, q, v, a, phi, t_s, ship, scene, ws.r)
         for j in range(index.shape[0]):
             rows[k - 1, j] = values[index[j]]
             if finite and not np.isfinite(rows[k - 1, j]):

@@ -51,8 +51,8 @@ import math
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
-from numba import njit
 
+from .kernel_cache import njit
 from .hydro.water import WaterModel, flow
 
 if TYPE_CHECKING:

@@ -21,7 +21,7 @@ from .ancf.prescribed import apply_prescribed
 from .ancf.model import CableModel, Mesh
 from .ancf.system import residual
 from .contact.cable import surface_summary
-from .output_kernel import OUTPUT_FIELDS, OutputLayout, advance_recording
+from .output_kernel import OUTPUT_FIELDS, OutputLayout, OutputScene, advance_recording
 from .errors import SceneError, SolverError
 from .kinematics import rotation_matrix
 from .rigid_body import ROW_TOW, angular_kinematics, rotation, tow_point_state
@@ -109,17 +109,18 @@ class Simulation:
         self._setpoint = (0.0, 0.0)
         self._initialized = False
         self._last_outputs: dict[str, float] = {}
-        self._payout_radius = winch_radius(scene) if scene.winch is not None else 0.0  # r_w + d/2 [m]
-        self._phi_nom = scene.winch.phi_nom if scene.winch is not None else 0.0
         rigid = bool(self.model.terms.rigid_link.enabled)
-        self._body_mass = -1.0 if scene.towbody is None or rigid else scene.towbody.mass  # [kg]
         #: The outputs this scene has (names in docs/design.md), see :meth:`outputs`.
         self.layout = OutputLayout(towbody=scene.towbody is not None, winch=scene.winch is not None,
                                    sheave=scene.sheave is not None, contact=bool(self.model.terms.contact.enabled),
                                    rigid=rigid)
-        # sheave centre in the ship frame [m] (NaN: none), for the compiled outputs
-        self._sheave_position = np.array(scene.sheave.position if scene.sheave is not None else [np.nan] * 3,
-                                         dtype=float)
+        #: What the compiled outputs need of the scene.
+        self.output_scene = OutputScene(
+            xi=_PROFILE_XI, body_mass=-1.0 if scene.towbody is None or rigid else float(scene.towbody.mass),
+            has_winch=scene.winch is not None,
+            sheave_position=np.array(scene.sheave.position if scene.sheave is not None else [np.nan] * 3, dtype=float),
+            payout_radius=winch_radius(scene) if scene.winch is not None else 0.0,
+            phi_nom=float(scene.winch.phi_nom) if scene.winch is not None else 0.0)
         #: wake oscillators of an enabled [viv] table (None: no vortex-induced vibration)
         self.viv = None
         if scene.viv is not None and scene.viv.enabled:
@@ -550,19 +551,14 @@ class Simulation:
         """All fields of :data:`~towcable_fmu.output_kernel.OUTPUT_FIELDS` (NaN: not in the scene)."""
         rows = np.empty((1, len(OUTPUT_FIELDS)))
         advance_recording(self.model, self.options, self.state, self.workspace, np.array([self.time]), *_NO_DRIVE,
-                          *self._output_arguments(), _ALL_OUTPUTS, rows, False, False, self.time)
+                          self.output_scene, _ALL_OUTPUTS, rows, False, False, self.time)
         return rows[0]
 
     def _step_to(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> int:
         """genalpha.advance to t_end (through advance_recording, recording nothing); the solver status."""
         reached = advance_recording(self.model, self.options, self.state, self.workspace, np.array([t_end]),
-                                    *drive, *self._output_arguments(), _NO_OUTPUTS, _NO_ROWS, False, False, t_end)
+                                    *drive, self.output_scene, _NO_OUTPUTS, _NO_ROWS, False, False, t_end)
         return genalpha.OK if reached == 1 else genalpha.FAILED_MIN_STEP
-
-    def _output_arguments(self) -> tuple:
-        """The arguments of :func:`~towcable_fmu.output_kernel.output_values` that describe the scene."""
-        return (_PROFILE_XI, self._body_mass, self.scene.winch is not None, self._sheave_position,
-                self._payout_radius, self._phi_nom)
 
     def _load_outputs(self) -> dict[str, float]:
         """Swing angle of the rigid load and the force the cable exerts on it."""
@@ -791,7 +787,7 @@ class Simulation:
             if loads is None and self.viv is None:
                 reached = first + advance_recording(
                     self.model, self.options, self.state, self.workspace, samples[first:stop], *drive,
-                    *self._output_arguments(), index, values[first + 1:stop + 1], True, interpolate, t_land)
+                    self.output_scene, index, values[first + 1:stop + 1], True, interpolate, t_land)
             else:  # the rigid load's outputs, or the wake coupling, in Python: one sample at a time
                 reached = first
                 while reached < stop and self._integrate(samples[reached], drive) == genalpha.OK:

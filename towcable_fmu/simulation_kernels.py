@@ -46,7 +46,7 @@ def _iteration_matrix() -> tuple:
 def _output_values() -> tuple:
     s = _reference()
     st = s.state
-    return (s.model, st.q, st.v, st.a, st.phi, 0.0, s.workspace.ship, *s._output_arguments(), s.workspace.r)
+    return (s.model, st.q, st.v, st.a, st.phi, 0.0, s.workspace.ship, s.output_scene, s.workspace.r)
 
 
 def _advance() -> tuple:
@@ -56,7 +56,7 @@ def _advance() -> tuple:
 
 def _advance_recording() -> tuple:
     s = _reference()
-    return (s.model, s.options, s.state, s.workspace, np.zeros(1), *_NO_DRIVE, *s._output_arguments(),
+    return (s.model, s.options, s.state, s.workspace, np.zeros(1), *_NO_DRIVE, s.output_scene,
             _ALL_OUTPUTS, np.zeros((1, _ALL_OUTPUTS.size)), True, True, 1.0)
 
 

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from ..kernel_cache import njit
 from .axial import axial_strains, slope_derivatives
 from .model import CableModel
 from .system import residual_span

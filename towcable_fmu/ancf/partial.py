@@ -16,7 +16,8 @@ Newton stalls on a cable resting across the waterline).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from ..kernel_cache import njit
 
 
 # Scalars only: a plain kernel (LLVM inlines it), not IR-inlined at each of its many call sites.

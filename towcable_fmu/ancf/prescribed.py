@@ -24,8 +24,8 @@ Attachment kinds (``kind`` column of the attachment table):
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from ..kernel_cache import njit
 from ..kinematics import rotation_derivatives
 
 FIXED_POINT = 0

@@ -16,8 +16,8 @@ applied as such.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from ..kernel_cache import njit
 from ..numerics.banded import band_add_block
 from .axial import axial_force, axial_tangent, slope_derivatives
 from .forces import add_residuals, add_tangents

@@ -13,8 +13,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from ..kernel_cache import njit
 from ..ancf.partial import active_quadrature, crossing_stiffness, hermite, interpolate
 from ..kinematics import rotation_derivatives
 from ..numerics.banded import band_add_block

@@ -48,7 +48,8 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+
+from ..kernel_cache import njit
 
 CYLINDER = 0
 WALL_PLUS = 1

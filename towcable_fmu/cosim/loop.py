@@ -26,7 +26,7 @@ from __future__ import annotations
 import ctypes
 from typing import NamedTuple
 
-from numba import njit
+from ..kernel_cache import njit
 
 #: ``fmi2Status (*)(fmi2Component, const fmi2ValueReference*, size_t, void*)``: fmi2Get/SetReal/Boolean.
 VALUES_PROTOTYPE = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t,

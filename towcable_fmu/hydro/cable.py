@@ -34,8 +34,8 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
+from ..kernel_cache import njit
 from ..ancf.partial import active_quadrature, crossing_stiffness, hermite, interpolate
 from .loading import drag_coefficient, loading_functions
 from .water import CURRENT_LINEAR, WaterModel, mean_flow, turbulence

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from ..kernel_cache import njit
 
 BARE = 0
 FAIRED = 1

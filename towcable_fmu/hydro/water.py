@@ -10,7 +10,8 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+
+from ..kernel_cache import njit
 
 CURRENT_NONE = 0
 CURRENT_UNIFORM = 1

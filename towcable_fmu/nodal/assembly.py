@@ -19,8 +19,8 @@ per body coordinate) complete the matrix.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from ..kernel_cache import njit
 from ..hydro.towbody import body_force
 from .element import add_element
 from .model import NodalModel

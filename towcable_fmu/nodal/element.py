@@ -38,8 +38,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from ..kernel_cache import njit
 from ..hydro.cable import point_load
 from .model import NodalModel
 

@@ -23,8 +23,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from ..kernel_cache import njit
 from ..kinematics import ship_point_kinematics
 from ..numerics.banded import band_lu, band_solve
 from ..drive import evaluate_drive

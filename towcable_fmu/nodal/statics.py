@@ -11,8 +11,8 @@ like a damped motion and the last iterations are plain Newton steps.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from ..kernel_cache import njit
 from ..numerics.banded import band_lu, band_solve
 from .assembly import bandwidth, iteration_matrix, residual
 from .model import NodalModel

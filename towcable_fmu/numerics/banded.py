@@ -12,7 +12,8 @@ algorithm (column-wise elimination, pivot search within the band).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from ..kernel_cache import njit
 
 
 @njit(cache=True)

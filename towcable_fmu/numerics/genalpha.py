@@ -48,8 +48,8 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
+from ..kernel_cache import njit
 from ..ancf.prescribed import apply_prescribed
 from ..ancf.model import CableModel
 from ..ancf.system import iteration_matrix, residual

@@ -29,7 +29,8 @@ slack and the taut state, so no switch of method is needed there.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from ..kernel_cache import njit
 
 #: Layout of a vessel parameter vector: mass [kg], heave kp [N/m], heave kd [N s/m],
 #: resistance [N s^2/m^2].

@@ -23,8 +23,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from ..kernel_cache import njit
 from ..ancf import element
 
 

@@ -27,7 +27,8 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+
+from ..kernel_cache import njit
 
 
 class WakeParameters(NamedTuple):

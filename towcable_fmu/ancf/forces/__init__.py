@@ -13,8 +13,8 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
+from ...kernel_cache import njit
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
 from . import contact, hydrodynamics, rigid_link, rigid_load, towbody, wake

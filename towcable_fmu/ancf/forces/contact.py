@@ -8,8 +8,8 @@ a grooved sheave's two walls and rim), integrated along each element
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from ...kernel_cache import njit
 from ...contact import cable as cable_contact
 from ...contact.surfaces import CYLINDER, RIM, SHEAVE, WALL_MINUS, WALL_PLUS, WINCH, ContactModel, no_contact
 from ...scene.model import Scene

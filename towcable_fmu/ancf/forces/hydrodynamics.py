@@ -8,8 +8,8 @@ carry none.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from ...kernel_cache import njit
 from ...hydro import cable as cable_hydro
 from ...hydro.cable import CableHydro
 from ...hydro.loading import LOADINGS

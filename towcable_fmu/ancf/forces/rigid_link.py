@@ -11,8 +11,8 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
+from ...kernel_cache import njit
 from ...rigid_body import RigidBodyModel, attitude_ok, body_residual, build_rigid_body, tow_point_state
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion

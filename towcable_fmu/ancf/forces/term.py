@@ -26,8 +26,8 @@ flag test in a scene that lacks it.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from ...kernel_cache import njit
 from ...numerics.banded import band_add_block, band_add_scattered
 from ..model import CableModel
 

@@ -7,8 +7,8 @@ at the last node (the body's mass is in the node's lumped mass).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from ...kernel_cache import njit
 from ...hydro import towbody as body_hydro
 from ...hydro.scene_data import build_body
 from ...hydro.towbody import BodyHydro
