@@ -123,3 +123,43 @@ def test_a_job_that_fails_to_compile_is_reported_and_the_others_are_done(tmp_pat
     import some_jobs
 
     assert [job.cached() for job in some_jobs.kernel_jobs()] == [True, False]
+
+
+def test_a_helper_that_dies_is_not_waited_for(tmp_path, monkeypatch):
+    """The helper is killed while this process waits for its job: the wait ends, the job
+    is reported as not compiled, and the jobs after it are done here."""
+    (tmp_path / "dying_jobs.py").write_text(textwrap.dedent("""
+        import os
+        from numba import njit
+        from towcable_fmu.parallel_compile import Job
+
+        @njit(cache=True)
+        def first(x):
+            return x + 1.0
+
+        @njit(cache=True)
+        def lost(x):
+            return x + 2.0
+
+        @njit(cache=True)
+        def after(x):
+            return lost(x) + 3.0
+
+        def _die_in_helper():
+            if os.getpid() != int(os.environ["MAIN_PID"]):
+                os._exit(3)
+            return (1.0,)
+
+        def kernel_jobs():  # planned: first -> main, lost -> helper, after (needs lost) -> main
+            return [Job("first", first, lambda: (1.0,), 2.0), Job("lost", lost, _die_in_helper, 2.0),
+                    Job("after", after, lambda: (1.0,), 1.0, ("lost",))]
+    """))
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setenv("PYTHONPATH", str(tmp_path))
+    monkeypatch.setenv("MAIN_PID", str(os.getpid()))
+    import dying_jobs
+
+    assert plan(dying_jobs.kernel_jobs(), 2) == [0, 1, 0]
+    failures = compile_kernels(["dying_jobs"], workers=2)
+    assert failures == ["lost: not compiled (helper exited with status 3)"]
+    assert [job.cached() for job in dying_jobs.kernel_jobs()] == [True, True, True]  # lost: compiled for after

@@ -114,16 +114,16 @@ def _marker(folder: Path, name: str, ok: bool) -> Path:
     return folder / f"{name}.{'done' if ok else 'failed'}"
 
 
-def _wait(folder: Path, names: Iterable[str], alive: Callable[[], bool]) -> None:
-    """Wait until each job of ``names`` has a marker, or its process is gone."""
+def _wait(folder: Path, names: Iterable[str], alive: Callable[[str], bool]) -> None:
+    """Wait until each job of ``names`` has a marker, or the process that owns it is gone."""
     for name in names:
         while not (_marker(folder, name, True).exists() or _marker(folder, name, False).exists()):
-            if not alive():
+            if not alive(name):
                 return
             time.sleep(_POLL)
 
 
-def _run_jobs(jobs: Sequence[Job], others: set[str], folder: Path, alive: Callable[[], bool]) -> list[str]:
+def _run_jobs(jobs: Sequence[Job], others: set[str], folder: Path, alive: Callable[[str], bool]) -> list[str]:
     """Compile ``jobs`` in order, waiting for needs in ``others``; a marker per job (a
     failure's holds the traceback). Returns the failures (name: error)."""
     failures = []
@@ -183,18 +183,26 @@ def compile_kernels(sources: Sequence[str], workers: int | None = None,
         others = {job.name for job, owner in zip(jobs, owners) if owner != 0}
         owner_of = {job.name: owner for job, owner in zip(jobs, owners)}
 
-        def alive() -> bool:
-            return any(proc.poll() is None for proc in helpers.values())
+        ended: set[int] = set()
 
-        failures = _run_jobs(own, others, folder, alive)
-        for worker, proc in helpers.items():
-            status = proc.wait()
-            for name in (n for n, w in owner_of.items() if w == worker):
-                failed = _marker(folder, name, False)
-                if failed.exists():
-                    failures.append(failed.read_text(encoding="utf-8").splitlines()[0])
-                elif not _marker(folder, name, True).exists():
-                    failures.append(f"{name}: not compiled (helper exited with status {status})")
+        def running() -> set[int]:
+            """The helpers still running; a helper that ended leaves a failed marker for
+            each job it did not finish, so that no process waits for them."""
+            for worker, proc in helpers.items():
+                if worker not in ended and proc.poll() is not None:
+                    ended.add(worker)
+                    for name in (n for n, w in owner_of.items() if w == worker):
+                        if not (_marker(folder, name, True).exists() or _marker(folder, name, False).exists()):
+                            _marker(folder, name, False).write_text(
+                                f"{name}: not compiled (helper exited with status {proc.returncode})\n",
+                                encoding="utf-8")
+            return set(helpers) - ended
+
+        failures = _run_jobs(own, others, folder, lambda name: owner_of[name] in running())
+        while running():
+            time.sleep(_POLL)
+        failures += [_marker(folder, name, False).read_text(encoding="utf-8").splitlines()[0]
+                     for name, worker in owner_of.items() if worker != 0 and _marker(folder, name, False).exists()]
     return failures
 
 
@@ -226,7 +234,7 @@ def helper_main(argv: Sequence[str]) -> int:
     jobs = {job.name: job for job in load_jobs(sources.split(","))}
     pid = int(main_pid)
 
-    def alive() -> bool:
+    def alive(name: str) -> bool:  # the main process marks the jobs of a helper that died
         try:
             os.kill(pid, 0)
         except OSError:

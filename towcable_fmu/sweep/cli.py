@@ -16,8 +16,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     from .spec import load_spec
 
     spec = load_spec(args.spec)
-    # once here, on every core, rather than in each worker at the same time
-    compile_ahead(KERNEL_SOURCES.get(model_kind(load_scene(spec.settings.scene)), ()), echo=not args.quiet)
+    if args.scheduler is None:  # local workers: once here, on every core, not in each worker at the same time
+        compile_ahead(KERNEL_SOURCES.get(model_kind(load_scene(spec.settings.scene)), ()), echo=not args.quiet)
     report = run_sweep(spec, workers=args.workers, scheduler=args.scheduler, retry_failed=args.retry_failed,
                        progress=not args.quiet, output=Path(args.output) if args.output else None)
     print(f"{report.table}: {report.total} cases, {report.skipped} were done before, {report.ran} run now "
