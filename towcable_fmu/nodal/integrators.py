@@ -21,6 +21,7 @@ counters of :data:`STAT_NAMES`.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -205,15 +206,59 @@ def output_values(m: NodalModel, q: np.ndarray, v: np.ndarray, x: np.ndarray, t:
             out[11 + k] = q[i + 3 + k]
 
 
+class Interpolant(NamedTuple):
+    """The start of the last accepted step, for outputs at times inside it."""
+
+    #: Coordinates, rates and accelerations (rows q, v, x) at the step's start, (3, n).
+    start: np.ndarray
+    #: The step's start time [s], (1,).
+    t0: np.ndarray
+    #: Scratch: the interpolated q, v, x, (3, n).
+    state: np.ndarray
+
+
+def new_interpolant(n: int) -> Interpolant:
+    """An interpolant for ``n`` coordinates."""
+    return Interpolant(np.zeros((3, n)), np.zeros(1), np.zeros((3, n)))
+
+
+@njit(cache=True)
+def _interpolate(m: NodalModel, ip: Interpolant, q: np.ndarray, v: np.ndarray, x: np.ndarray, t1: float,
+                 t: float, drive_t: np.ndarray, drive_x: np.ndarray) -> None:
+    """The state at time t [s] inside the last step (ending at t1 with q, v, x) into
+    ``ip.state``: cubic Hermite in the coordinates from their values and rates at both
+    ends (error O(h^4), below the schemes' own order), rates its derivative, accelerations
+    linear; the top node follows the ship exactly."""
+    t0 = ip.t0[0]
+    h = t1 - t0
+    s = (t - t0) / h
+    s2, s3 = s * s, s * s * s
+    h00, h10, h01, h11 = 2.0 * s3 - 3.0 * s2 + 1.0, s3 - 2.0 * s2 + s, 3.0 * s2 - 2.0 * s3, s3 - s2
+    d00, d10, d01, d11 = (6.0 * s2 - 6.0 * s) / h, 3.0 * s2 - 4.0 * s + 1.0, (6.0 * s - 6.0 * s2) / h, 3.0 * s2 - 2.0 * s
+    for i in range(q.size):
+        q0, v0 = ip.start[0, i], ip.start[1, i]
+        ip.state[0, i] = h00 * q0 + h10 * h * v0 + h01 * q[i] + h11 * h * v[i]
+        ip.state[1, i] = d00 * q0 + d10 * v0 + d01 * q[i] + d11 * v[i]
+        ip.state[2, i] = (1.0 - s) * ip.start[2, i] + s * x[i]
+    prescribe_top(m, drive_t, drive_x, t, ip.state[0], ip.state[1], ip.state[2])
+
+
 @njit(cache=True)
 def advance_recording(m: NodalModel, method: int, h_max: float, h_min: float, coef: np.ndarray, tol: float,
                       max_iter: int, q: np.ndarray, v: np.ndarray, x: np.ndarray, acc: np.ndarray,
                       clock: np.ndarray, stats: np.ndarray, samples: np.ndarray, drive_t: np.ndarray,
-                      drive_x: np.ndarray, values: np.ndarray) -> int:
+                      drive_x: np.ndarray, values: np.ndarray, ip: Interpolant, interpolate: bool,
+                      t_land: float) -> int:
     """Step to each time in ``samples`` [s] and record :func:`output_values` in ``values``.
 
-    Steps are ``clock[CLOCK_STEP]`` [s] long (at most h_max, shortened to land on the samples; halved
-    after a failed generalised-alpha step, doubled back after a success).
+    Steps are ``clock[CLOCK_STEP]`` [s] long (at most h_max; halved after a failed
+    generalised-alpha step, doubled back after a success). Without ``interpolate`` they are
+    shortened to land on every sample. With it the integrator keeps its own steps and
+    never passes ``t_land`` [s] (the last two steps before it split evenly): a sample
+    inside a step reads the state interpolated in that step (:func:`_interpolate`, from
+    ``ip``), so the output interval does not change the steps; the state may then end up
+    to one step past the last sample (the next call's drive table must start at
+    ``ip.t0``).
 
     Returns
     -------
@@ -225,11 +270,18 @@ def advance_recording(m: NodalModel, method: int, h_max: float, h_min: float, co
     for s in range(samples.size):
         target = samples[s]
         while clock[CLOCK_TIME] < target - 1e-12 * max(1.0, abs(target)):
-            h = min(clock[CLOCK_STEP], target - clock[CLOCK_TIME])
-            if method == GENALPHA:
-                ok = genalpha_step(m, h, coef, tol, max_iter, clock[CLOCK_TIME], drive_t, drive_x, q, v, x, acc, out, stats)
+            t = clock[CLOCK_TIME]
+            h = clock[CLOCK_STEP]
+            if interpolate:
+                remaining = t_land - t
+                n_rem = math.ceil(remaining / h - 1e-9)
+                h = h if n_rem > 2 else remaining / n_rem
             else:
-                ok = rk4_step(m, h, clock[CLOCK_TIME], drive_t, drive_x, q, v, out, stats)
+                h = min(h, target - t)
+            if method == GENALPHA:
+                ok = genalpha_step(m, h, coef, tol, max_iter, t, drive_t, drive_x, q, v, x, acc, out, stats)
+            else:
+                ok = rk4_step(m, h, t, drive_t, drive_x, q, v, out, stats)
             ok = ok and np.all(np.isfinite(out[0])) and np.all(np.isfinite(out[1]))
             if not ok:
                 stats[4] += 1
@@ -237,6 +289,8 @@ def advance_recording(m: NodalModel, method: int, h_max: float, h_min: float, co
                 if clock[CLOCK_STEP] < h_min or method == RK4:
                     return s
                 continue
+            ip.start[0, :], ip.start[1, :], ip.start[2, :] = q, v, x
+            ip.t0[0] = t
             q[:], v[:], x[:] = out[0], out[1], out[2]
             if method == GENALPHA:
                 acc[:] = out[3]
@@ -244,7 +298,11 @@ def advance_recording(m: NodalModel, method: int, h_max: float, h_min: float, co
             stats[0] += 1
             if h == clock[CLOCK_STEP]:
                 clock[CLOCK_STEP] = min(2.0 * clock[CLOCK_STEP], h_max)
-        output_values(m, q, v, x, clock[CLOCK_TIME], values[s])
+        if target >= clock[CLOCK_TIME] - 1e-12 * max(1.0, abs(target)):
+            output_values(m, q, v, x, clock[CLOCK_TIME], values[s])
+        else:
+            _interpolate(m, ip, q, v, x, clock[CLOCK_TIME], target, drive_t, drive_x)
+            output_values(m, ip.state[0], ip.state[1], ip.state[2], target, values[s])
         if not np.all(np.isfinite(values[s])):
             return s
     return samples.size

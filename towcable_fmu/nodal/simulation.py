@@ -24,7 +24,8 @@ from ..numerics.genalpha import scheme_coefficients
 from ..scene import load_scene
 from ..scene.model import Scene
 from ..ship_input import check_ship_state, motion_source
-from .integrators import CLOCK_STEP, CLOCK_TIME, INTEGRATORS, STAT_NAMES, accelerations, advance_recording, output_values, prescribe_top
+from .integrators import (CLOCK_STEP, CLOCK_TIME, INTEGRATORS, STAT_NAMES, accelerations, advance_recording,
+                          new_interpolant, output_values, prescribe_top)
 from .assembly import cable_residual, expand
 from .model import NodalModel, build_nodal_model, n_coordinates
 from ..rigid_body import ROW_TOW, angular_kinematics, rotation
@@ -69,6 +70,7 @@ class NodalSimulation:
         n = n_coordinates(self.model)
         self.q, self.v, self.x, self.acc = (np.zeros(n) for _ in range(4))
         self.clock = np.array([0.0, s.time_step])
+        self._interpolant = new_interpolant(n)  # the last step's start, for samples inside it
         self.stats = np.zeros(len(STAT_NAMES), dtype=np.int64)
         self.names = OUTPUT_NAMES + (BODY_NAMES if scene.towbody is not None else ())
         if self.model.rigid.enabled:
@@ -195,7 +197,8 @@ class NodalSimulation:
         drive = drive_poly.taylor_drive(t0, ship, (0.0, 0.0))
         reached = advance_recording(self.model, self.method, s.time_step, s.min_time_step, self.coef, s.newton_tol,
                                     s.max_newton_iterations, self.q, self.v, self.x, self.acc, self.clock,
-                                    self.stats, np.array([t0 + dt]), *drive, values)
+                                    self.stats, np.array([t0 + dt]), *drive, values, self._interpolant, False,
+                                    t0 + dt)
         if reached < 1:
             for dst, src in zip(self._state_arrays(), saved):
                 dst[:] = src
@@ -311,13 +314,18 @@ class NodalSimulation:
         output_values(self.model, self.q, self.v, self.x, t0, values[0])
         s = self.scene.solver
         chunk = max(1, int(1.0 / dt))
+        t_land = float(samples[-1])  # the integrator's own steps, samples read from its interpolant
         for first in range(0, n, chunk):
             stop = min(n, first + chunk)
-            drive = self._drive(np.concatenate([[self.time], samples[first:stop]]))
+            # from the last step's start (samples inside it), one step past the block
+            start = min(self.time, float(self._interpolant.t0[0])) if samples[first] < self.time else self.time
+            end = min(t_land, float(samples[stop - 1]) + s.time_step)
+            block = samples[first:stop]
+            drive = self._drive(np.unique(np.concatenate([[start], block[block > start], [end]])))
             reached = first + advance_recording(
                 self.model, self.method, s.time_step, s.min_time_step, self.coef, s.newton_tol,
                 s.max_newton_iterations, self.q, self.v, self.x, self.acc, self.clock, self.stats,
-                samples[first:stop], *drive, values[first + 1:stop + 1])
+                block, *drive, values[first + 1:stop + 1], self._interpolant, True, t_land)
             if reached < stop:
                 pitch = (f"; the rigid body's pitch is {self.q[-2]:.4g} rad, its Euler angles are singular at "
                          f"+-pi/2" if self.model.rigid.enabled else "")

@@ -72,7 +72,7 @@ def _solve_statics() -> tuple:
 def _advance_recording() -> tuple:
     s = _reference()
     return (s.model, s.method, 0.1, 1e-6, s.coef, 1e-6, 10, s.q, s.v, s.x, s.acc, s.clock, s.stats, np.zeros(1),
-            *_DRIVE, np.zeros((1, 1)))
+            *_DRIVE, np.zeros((1, 1)), s._interpolant, True, 1.0)
 
 
 def kernel_jobs() -> list[Job]:
