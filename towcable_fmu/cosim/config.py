@@ -100,15 +100,17 @@ def compensation_geometry(scene, config: CosimConfig) -> dict[str, Any]:
     from ..errors import SceneError
     from ..simulation import compensation_config
 
-    table = dict(scene.compensation or {})
+    # a rigid-link (tug-tow) scene has no [compensation], [winch], [sheave] or [motion]
+    table = dict(getattr(scene, "compensation", None) or {})
+    winch, sheave = getattr(scene, "winch", None), getattr(scene, "sheave", None)
     algorithm = config.compensation or table.get("algorithm") or "none"
     source = {"algorithm": "given" if config.compensation else "scene [compensation]" if "algorithm" in table
               else "default"}
-    if scene.winch is None:
+    if winch is None:
         if algorithm != "none":
             raise SceneError("compensation", algorithm, "'none' for a scene without a [winch] (nothing to drive)")
         return {"algorithm": "none", "extra": {}, "winch_radius": 1.0, "phi_nom": 0.0,
-                "reference_point": (0.0, 0.0, 0.0), "has_sheave": scene.sheave is not None,
+                "reference_point": (0.0, 0.0, 0.0), "has_sheave": sheave is not None,
                 "source": {**source, "geometry": "unused (no winch)"}}
     table["algorithm"] = algorithm
     cfg = compensation_config(dataclasses.replace(scene, compensation=table), float(table.get("theta_nom", 0.0)))
@@ -123,7 +125,7 @@ def compensation_geometry(scene, config: CosimConfig) -> dict[str, Any]:
     return {"algorithm": algorithm, "extra": extra, "winch_radius": float(geometry["winch_radius"]),
             "phi_nom": float(geometry["phi_nom"]),
             "reference_point": tuple(float(x) for x in geometry["reference_point"]),
-            "has_sheave": scene.sheave is not None, "source": source}
+            "has_sheave": sheave is not None, "source": source}
 
 
 def motion_parameters(config: CosimConfig, scene) -> dict[str, Any]:
@@ -133,7 +135,7 @@ def motion_parameters(config: CosimConfig, scene) -> dict[str, Any]:
         return {"motion.type": "none"}
     if config.motion:
         return {"motion.config": str(config.motion)}
-    if scene.motion:
+    if getattr(scene, "motion", None):  # (none in a rigid-link scene)
         path = Path(config.scene)
         return {"motion.config": str(path.resolve()) if path.suffix == ".toml" or path.exists() else config.scene}
     return {}  # the FMU's defaults: ship_motion.DEFAULT_SEA

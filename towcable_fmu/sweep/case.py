@@ -78,7 +78,7 @@ def simulate(case: Case, fmus: Mapping[str, Path] | None = None) -> dict[str, np
 
     scene = load_scene(s.scene, case.overrides)
     motion = None
-    if scene.motion:
+    if getattr(scene, "motion", None):  # (none in a rigid-link scene)
         motion = "[motion]\n" + "\n".join(format_overrides([(k, v)]) for k, v in scene.motion.items())
     config = CosimConfig(scene=s.scene, overrides=case.overrides, duration=s.duration, step=s.step,
                          interval=s.interval, motion=motion, fmu_dir=s.fmu_dir)
