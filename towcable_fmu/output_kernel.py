@@ -26,6 +26,7 @@ from .rigid_body import angular_kinematics, tow_point_state
 from .ancf.prescribed import apply_prescribed
 from .drive import evaluate_drive
 from .numerics.genalpha import CLOCK_TIME
+from .numerics.hermite import step_weights
 from .numerics.genalpha import advance as genalpha_advance
 
 #: Entries of the array returned by :func:`output_values`, SI units.
@@ -273,9 +274,7 @@ def _interpolate_state(model: CableModel, st, ws, t: float, drive_t: np.ndarray,
     t0 = ws.step_start[0]
     h = st.clock[CLOCK_TIME] - t0
     s = (t - t0) / h
-    s2, s3 = s * s, s * s * s
-    h00, h10, h01, h11 = 2.0 * s3 - 3.0 * s2 + 1.0, s3 - 2.0 * s2 + s, 3.0 * s2 - 2.0 * s3, s3 - s2
-    d00, d10, d01, d11 = (6.0 * s2 - 6.0 * s) / h, 3.0 * s2 - 4.0 * s + 1.0, (6.0 * s - 6.0 * s2) / h, 3.0 * s2 - 2.0 * s
+    h00, h10, h01, h11, d00, d10, d01, d11 = step_weights(s, h)
     for i in range(st.q.shape[0]):
         q0, v0, q1, v1 = ws.q0[i], ws.v0[i], st.q[i], st.v[i]
         ws.qs[i] = h00 * q0 + h10 * h * v0 + h01 * q1 + h11 * h * v1

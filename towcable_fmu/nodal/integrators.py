@@ -28,6 +28,7 @@ import numpy as np
 from ..kernel_cache import njit
 from ..kinematics import ship_point_kinematics
 from ..numerics.banded import band_lu, band_solve
+from ..numerics.hermite import step_weights
 from ..drive import evaluate_drive
 from .assembly import bandwidth, cable_residual, expand, iteration_matrix, residual
 from .element import axial_force
@@ -232,9 +233,7 @@ def _interpolate(m: NodalModel, ip: Interpolant, q: np.ndarray, v: np.ndarray, x
     t0 = ip.t0[0]
     h = t1 - t0
     s = (t - t0) / h
-    s2, s3 = s * s, s * s * s
-    h00, h10, h01, h11 = 2.0 * s3 - 3.0 * s2 + 1.0, s3 - 2.0 * s2 + s, 3.0 * s2 - 2.0 * s3, s3 - s2
-    d00, d10, d01, d11 = (6.0 * s2 - 6.0 * s) / h, 3.0 * s2 - 4.0 * s + 1.0, (6.0 * s - 6.0 * s2) / h, 3.0 * s2 - 2.0 * s
+    h00, h10, h01, h11, d00, d10, d01, d11 = step_weights(s, h)
     for i in range(q.size):
         q0, v0 = ip.start[0, i], ip.start[1, i]
         ip.state[0, i] = h00 * q0 + h10 * h * v0 + h01 * q[i] + h11 * h * v[i]
@@ -274,7 +273,8 @@ def advance_recording(m: NodalModel, method: int, h_max: float, h_min: float, co
             h = clock[CLOCK_STEP]
             if interpolate:
                 remaining = t_land - t
-                n_rem = math.ceil(remaining / h - 1e-9)
+                # (the clock sums thousands of steps: no extra step for its round-off)
+                n_rem = math.ceil(remaining / h - 1e-6)
                 h = h if n_rem > 2 else remaining / n_rem
             else:
                 h = min(h, target - t)

@@ -423,7 +423,8 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
             st.clock[CLOCK_TIME] = t_end
             return OK
         h = min(st.clock[CLOCK_STEP], opt.h_max)
-        nrem = math.ceil(remaining / h - 1e-9)
+        # (the clock sums thousands of steps: no extra step for its round-off)
+        nrem = math.ceil(remaining / h - 1e-6)
         # one step: the current size, the last two steps before t_end split evenly
         h_try = h if one_step and nrem > 2 else remaining / nrem
         ws.q0[:] = st.q
