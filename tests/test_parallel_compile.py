@@ -72,15 +72,20 @@ def compile_then_watch(*args, **kwargs):
 parallel_compile.compile_kernels = compile_then_watch
 rc = cli.main(sys.argv[1:])
 print("COMPILED DURING THE RUN:", sorted(set(compiled)))
+from towcable_fmu.models import KERNEL_SOURCES, model_kind
+from towcable_fmu.scene import load_scene
+jobs = parallel_compile.load_jobs(KERNEL_SOURCES[model_kind(load_scene(sys.argv[2]))])
+extra = {job.name: len(job.kernel._cache._cache_file._load_index()) for job in jobs}
+print("JOBS WITH ANOTHER SIGNATURE IN THE CACHE:", sorted(name for name, n in extra.items() if n != 1))
 sys.exit(rc)
 """
 
 
 @pytest.mark.parametrize("scene", ["full_scale", pytest.param("sea_trial_turn_rigid", marks=pytest.mark.slow)])
 def test_first_run_compiles_ahead_on_two_processes_and_nothing_during_the_run(tmp_path, scene):
-    """A cold cache: the command line compiles the model's kernels ahead on two processes;
-    the run itself then compiles none (of ours or numba's), and the next run compiles
-    nothing (ANCF; nodal-position cable with a rigid body)."""
+    """A cold cache: the command line compiles the model's kernels ahead on two processes,
+    each job the one signature the run calls; the run itself then compiles none (of ours or
+    numba's), and the next run compiles nothing (ANCF; nodal-position cable with a rigid body)."""
     env = dict(os.environ, TOWCABLE_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=str(ROOT))
     command = [sys.executable, "-c", _WATCHED_RUN, "run", scene, "--duration", "0.2", "--interval", "0.1",
                "--output", str(tmp_path / "out.csv")]
@@ -90,6 +95,9 @@ def test_first_run_compiles_ahead_on_two_processes_and_nothing_during_the_run(tm
     assert ("compiling the numerical kernels on 2 processes" if cores >= 2 else
             "compiling the numerical kernels (") in first.stderr
     assert "COMPILED DURING THE RUN: []" in first.stdout, first.stdout
+    # each job compiled the signature the run uses, and the run no other (a job whose
+    # example arguments had other types would compile a kernel nobody calls)
+    assert "JOBS WITH ANOTHER SIGNATURE IN THE CACHE: []" in first.stdout, first.stdout
     second = subprocess.run(command, env=env, capture_output=True, text=True, timeout=300)
     assert second.returncode == 0, second.stderr
     assert "compiling" not in second.stderr

@@ -1,11 +1,11 @@
 """Compile a command's kernels on every core the first time it runs (a cold kernel cache).
 
 numba compiles one kernel at a time in a process, and a model's kernels form a small
-graph: the ANCF cable's residual and iteration matrix, its output kernel, then the
-integrator step that calls the first two, then the recording loop that calls the
-integrator and the outputs. Run one after the other they take about 95 s on one core of
-the 2-core machine class; spread over the cores they take the longest path through the
-graph instead.
+graph: the ANCF force terms' kernels, the residual and iteration matrix that call them,
+its output kernel, then the integrator step that calls the residual and the matrix, then
+the recording loop that calls the integrator and the outputs. Run one after the other
+they take about 65 s on one core of the 2-core machine class; spread over the cores they
+take about 38 s (the longest path through the graph, with both cores busy).
 
 A model lists its kernels as :class:`Job`\\ s (``kernel_jobs()`` of its simulation module:
 the kernel, example arguments of the types the run passes, a cost estimate, the jobs it

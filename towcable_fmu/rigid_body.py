@@ -160,9 +160,11 @@ def tow_point_state(b: RigidBodyModel, q: np.ndarray, v: np.ndarray, a: np.ndarr
     rot, _, w, wd = angular_kinematics(q, v, a)
     wp = _cross(w, b.axes[ROW_TOW])
     acc = _cross(wd, b.axes[ROW_TOW]) + _cross(w, wp)
-    xn[:] = q[:3] + _mv(rot, b.axes[ROW_TOW])
-    vn[:] = v[:3] + _mv(rot, wp)
-    an[:] = a[:3] + _mv(rot, acc)
+    xb, vb, ab = _mv(rot, b.axes[ROW_TOW]), _mv(rot, wp), _mv(rot, acc)
+    for c in range(3):  # (element-wise: a slice assignment compiles a shape-checking error path)
+        xn[c] = q[c] + xb[c]
+        vn[c] = v[c] + vb[c]
+        an[c] = a[c] + ab[c]
 
 
 @njit(cache=True)
@@ -206,7 +208,9 @@ def body_residual(w: WaterModel, b: RigidBodyModel, gravity: float, q: np.ndarra
         out[k] = b.mass * a[k] - force[k] + r_tow[k]
     moment -= _cross(b.axes[ROW_TOW], _mtv(rot, r_tow))
     e = _mv(jeff, omd) + _cross(om, _mv(b.inertia, om)) - moment
-    out[3:6] = _mtv(g, e)
+    moments = _mtv(g, e)
+    for k in range(3):
+        out[3 + k] = moments[k]
 
 
 @njit(cache=True)

@@ -14,14 +14,19 @@ import functools
 
 import numpy as np
 
+from .ancf.forces import rigid_link
+from .ancf.measures import element_tension, point_on_cable
 from .ancf.prescribed import apply_prescribed
 from .ancf.system import iteration_matrix, residual
+from .contact import cable as cable_contact
 from .drive import evaluate_drive
-from .kinematics import rotation_matrix, ship_point_kinematics
+from .hydro import cable as cable_hydro
+from .kinematics import rotation_derivatives, rotation_matrix, ship_point_kinematics
 from .numerics import genalpha
 from .numerics.banded import band_lu, band_positive_pivots, band_solve
 from .output_kernel import advance_recording, output_values
 from .parallel_compile import Job
+from .rigid_body import tow_point_state
 from .simulation import _ALL_OUTPUTS, _NO_DRIVE, Simulation
 
 #: The scene whose model supplies the argument types.
@@ -31,6 +36,48 @@ REFERENCE_SCENE = "full_scale"
 @functools.cache
 def _reference() -> Simulation:
     return Simulation.from_scene(REFERENCE_SCENE)
+
+
+def _contact_residual() -> tuple:
+    s = _reference()
+    m, st = s.model, s.state
+    return (m.terms.contact, m.el_len, m.el_d, m.el_npts, st.q, st.v, s.workspace.ship, np.intp(0), np.intp(1),
+            s.workspace.r)
+
+
+def _contact_jacobian() -> tuple:
+    s = _reference()
+    m, st = s.model, s.state
+    return (m.terms.contact, m.el_len, m.el_d, m.el_npts, st.q, st.v, s.workspace.ship, m.free_idx, m.kl, m.ku,
+            0.0, 1.0, s.workspace.ab)
+
+
+def _surface_summary() -> tuple:
+    s = _reference()
+    m, st = s.model, s.state
+    return (m.terms.contact, m.el_len, m.el_d, m.el_npts, st.q, st.v, s.workspace.ship, np.zeros((2, 3)),
+            np.zeros((2, 2)), np.zeros((2, 4)), np.zeros(2), np.zeros(2), np.empty((0, 3)))
+
+
+def _hydro_residual() -> tuple:
+    s = _reference()
+    m, st = s.model, s.state
+    return m.water, m.terms.hydrodynamics, m.el_len, st.q, st.v, st.a, 0.0, np.intp(0), np.intp(1), s.workspace.r
+
+
+def _hydro_jacobian() -> tuple:
+    s = _reference()
+    m, st = s.model, s.state
+    return m.water, m.terms.hydrodynamics, m.el_len, st.q, st.v, 0.0, np.intp(0), 1.0, 0.0, 0.0, np.zeros((12, 12))
+
+
+def _link_rows() -> tuple:
+    m = _reference().model
+    return m.terms.rigid_link, m, *np.zeros((3, 9)), 0.0, np.zeros(9)
+
+
+def _tow_point_state() -> tuple:
+    return _reference().model.terms.rigid_link.body, *np.zeros((6, 6))
 
 
 def _residual() -> tuple:
@@ -83,21 +130,41 @@ def _evaluate_drive() -> tuple:
 
 
 def kernel_jobs() -> list[Job]:
-    """The ANCF simulation's kernels, callers after callees; costs measured on one core
-    of the 2-core machine class [s]."""
+    """The ANCF simulation's kernels, callers after callees; costs measured with both cores
+    of the 2-core machine class compiling [s]. The force terms' kernels are jobs of their
+    own so that the residual and the iteration matrix (on the longest path) wait for less."""
     return [
-        Job("ancf.residual", residual, _residual, 27.0),
-        Job("ancf.iteration_matrix", iteration_matrix, _iteration_matrix, 19.0),
-        Job("ancf.output_values", output_values, _output_values, 25.0),
-        Job("ancf.advance", genalpha.advance, _advance, 11.0, ("ancf.residual", "ancf.iteration_matrix")),
-        Job("ancf.band_lu", band_lu, lambda: _band(False), 0.3, ("ancf.advance",)),
-        Job("ancf.band_solve", band_solve, lambda: _band(True), 0.2, ("ancf.advance",)),
-        Job("ancf.evaluate_drive", evaluate_drive, _evaluate_drive, 0.9, ("ancf.advance",)),
-        Job("ancf.apply_prescribed", apply_prescribed, _apply_prescribed, 1.5, ("ancf.advance",)),
-        Job("ancf.band_positive_pivots", band_positive_pivots, _positive_pivots, 1.7),
+        Job("kinematics.rotation_derivatives", rotation_derivatives, lambda: (np.zeros((3, 6)),), 2.0),
+        Job("hydro.add_residual", cable_hydro.add_residual, _hydro_residual, 3.8),
+        Job("rigid_body.tow_point_state", tow_point_state, _tow_point_state, 1.1),
+        Job("contact.add_residual", cable_contact.add_residual, _contact_residual, 3.7,
+            ("kinematics.rotation_derivatives",)),
+        Job("ancf.rigid_link_rows", rigid_link._rows, _link_rows, 3.2, ("rigid_body.tow_point_state",)),
+        Job("ancf.residual", residual, _residual, 8.1,
+            ("contact.add_residual", "ancf.rigid_link_rows", "hydro.add_residual")),
+        Job("contact.add_jacobian", cable_contact.add_jacobian, _contact_jacobian, 3.1,
+            ("kinematics.rotation_derivatives",)),
+        Job("hydro.add_jacobian", cable_hydro.add_jacobian, _hydro_jacobian, 1.8),
+        Job("ancf.iteration_matrix", iteration_matrix, _iteration_matrix, 8.0,
+            ("contact.add_jacobian", "hydro.add_jacobian", "ancf.rigid_link_rows")),
+        Job("contact.surface_summary", cable_contact.surface_summary, _surface_summary, 2.8,
+            ("kinematics.rotation_derivatives",)),
+        Job("ancf.band_lu", band_lu, lambda: _band(False), 0.3),
+        Job("ancf.band_solve", band_solve, lambda: _band(True), 0.2),
+        Job("ancf.evaluate_drive", evaluate_drive, _evaluate_drive, 0.9),
+        Job("ancf.apply_prescribed", apply_prescribed, _apply_prescribed, 1.6),
+        Job("ancf.point_on_cable", point_on_cable, lambda: (_reference().model, _reference().state.q, 0, 0.0), 0.9),
+        Job("ancf.element_tension", element_tension, lambda: (_reference().model, _reference().state.q, 0), 0.9),
+        Job("ancf.output_values", output_values, _output_values, 9.0,
+            ("ancf.residual", "contact.surface_summary", "rigid_body.tow_point_state", "ancf.point_on_cable",
+             "ancf.element_tension")),
+        Job("ancf.advance", genalpha.advance, _advance, 7.8,
+            ("ancf.residual", "ancf.iteration_matrix", "ancf.band_lu", "ancf.band_solve", "ancf.evaluate_drive",
+             "ancf.apply_prescribed")),
+        Job("ancf.band_positive_pivots", band_positive_pivots, _positive_pivots, 0.2),
         Job("kinematics.rotation_matrix", rotation_matrix, lambda: (0.0, 0.0, 0.0), 0.2),
         Job("kinematics.ship_point_kinematics", ship_point_kinematics,  # a compensation's set-point
-            lambda: (np.zeros((3, 6)), np.zeros(3)), 6.0),
-        Job("ancf.advance_recording", advance_recording, _advance_recording, 9.0,
+            lambda: (np.zeros((3, 6)), np.zeros(3)), 0.8),
+        Job("ancf.advance_recording", advance_recording, _advance_recording, 6.8,
             ("ancf.advance", "ancf.output_values")),
     ]

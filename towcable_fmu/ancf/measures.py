@@ -139,7 +139,9 @@ def summary(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: f
         dn[k, 1] = 1.0 - 4.0 * x + 3.0 * x * x
         dn[k, 2] = 6.0 * x - 6.0 * x * x
         dn[k, 3] = 3.0 * x * x - 2.0 * x
-    dn[nk:] = model.gauss_dn
+    for k in range(ng):
+        for j in range(4):
+            dn[nk + k, j] = model.gauss_dn[k, j]
     eps = np.empty(nk + ng)
     t_max, t_min, axial = -np.inf, np.inf, 0.0
     for e in range(ne):

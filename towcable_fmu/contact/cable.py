@@ -79,7 +79,9 @@ def _inertial_force(c: ContactModel, f: int, half_d: float, rot: np.ndarray, rot
             rot[2, 0] * fx + rot[2, 1] * fy + rot[2, 2] * fz, g, energy)
 
 
-@njit(cache=True, inline="always")
+# _element_points, _face_quadrature and _touching_faces are kernels of their own (typed
+# once): IR-inlined, each of the three contact kernels typed them again (7 s of compiling).
+@njit(cache=True)
 def _element_points(q, v, base, length, npts, pts):
     """Positions and velocities (inertial) of the element's grid points into pts (npts, 6)."""
     for j in range(npts):
@@ -88,7 +90,7 @@ def _element_points(q, v, base, length, npts, pts):
         pts[j, 3], pts[j, 4], pts[j, 5] = interpolate(v, base, n[0], n[1], n[2], n[3])
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, pts, xi, wt, g, cross, fpt):
     """Active quadrature of face f on one element (grid points in ``pts``); forces and stored
     energy density at all its points into ``fpt`` (columns fx, fy, fz [N/m], energy [J/m]).
@@ -111,7 +113,7 @@ def _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, pt
     return count
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _touching_faces(c, half_d, q, base, length, rot, ship, faces) -> int:
     """Faces element (at base) can touch, into ``faces``; the bounding test runs once per surface."""
     count = 0

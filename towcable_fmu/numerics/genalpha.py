@@ -54,6 +54,7 @@ from ..ancf.prescribed import apply_prescribed
 from ..ancf.model import CableModel
 from ..ancf.system import iteration_matrix, residual
 from ..drive import evaluate_drive
+from .arrays import copy_into
 from .banded import band_lu, band_solve
 
 # results of advance
@@ -186,9 +187,9 @@ def _factorize(model, opt, st, ws, t, h, am, af, gamma, beta):
     n = model.free_dofs.shape[0]
     info = band_lu(ws.ab, n, model.kl, model.ku, ws.ipiv)
     st.stats[STAT_JACOBIANS] += 1
-    st.jac_q[:] = st.q
-    st.jac_v[:] = st.v
-    st.jac_ship[:, :] = ws.ship
+    copy_into(st.jac_q, st.q)
+    copy_into(st.jac_v, st.v)
+    copy_into(st.jac_ship, ws.ship)
     st.jac[JAC_H] = h
     st.jac[JAC_AGE] = 0.0
     st.jac[JAC_T] = t
@@ -379,11 +380,11 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
 
 @njit(cache=True, inline="always")
 def _restore(st, ws):
-    st.q[:] = ws.q0
-    st.v[:] = ws.v0
-    st.a[:] = ws.a0
-    st.abar[:] = ws.abar0
-    st.phi[:] = ws.phi0
+    copy_into(st.q, ws.q0)
+    copy_into(st.v, ws.v0)
+    copy_into(st.a, ws.a0)
+    copy_into(st.abar, ws.abar0)
+    copy_into(st.phi, ws.phi0)
 
 
 # A kernel of its own (not IR-inlined into towcable_fmu.output_kernel.advance_recording):
@@ -427,11 +428,11 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
         nrem = math.ceil(remaining / h - 1e-6)
         # one step: the current size, the last two steps before t_end split evenly
         h_try = h if one_step and nrem > 2 else remaining / nrem
-        ws.q0[:] = st.q
-        ws.v0[:] = st.v
-        ws.a0[:] = st.a
-        ws.abar0[:] = st.abar
-        ws.phi0[:] = st.phi
+        copy_into(ws.q0, st.q)
+        copy_into(ws.v0, st.v)
+        copy_into(ws.a0, st.a)
+        copy_into(ws.abar0, st.abar)
+        copy_into(ws.phi0, st.phi)
         for attempt in range(2):  # (one call site of the inlined _try_step)
             status = _try_step(model, opt, st, ws, h_try, drive_t, drive_x, am, af, gamma, beta)
             if attempt == 1 or not (status == STEP_NOT_CONVERGED and st.jac[JAC_AGE] > 0.0):
