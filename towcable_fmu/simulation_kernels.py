@@ -38,25 +38,25 @@ def _reference() -> Simulation:
     return Simulation.from_scene(REFERENCE_SCENE)
 
 
-def _contact_residual() -> tuple:
+def _contact_state() -> tuple:
+    """The arguments every contact kernel starts with: the contact data, the elements and the state."""
     s = _reference()
     m, st = s.model, s.state
-    return (m.terms.contact, m.el_len, m.el_d, m.el_npts, st.q, st.v, s.workspace.ship, np.intp(0), np.intp(1),
-            s.workspace.r)
+    return m.terms.contact, m.el_len, m.el_d, m.el_npts, st.q, st.v, s.workspace.ship
+
+
+def _contact_residual() -> tuple:
+    return *_contact_state(), np.intp(0), np.intp(1), _reference().workspace.r
 
 
 def _contact_jacobian() -> tuple:
-    s = _reference()
-    m, st = s.model, s.state
-    return (m.terms.contact, m.el_len, m.el_d, m.el_npts, st.q, st.v, s.workspace.ship, m.free_idx, m.kl, m.ku,
-            0.0, 1.0, s.workspace.ab)
+    m = _reference().model
+    return *_contact_state(), m.free_idx, m.kl, m.ku, 0.0, 1.0, _reference().workspace.ab
 
 
 def _surface_summary() -> tuple:
-    s = _reference()
-    m, st = s.model, s.state
-    return (m.terms.contact, m.el_len, m.el_d, m.el_npts, st.q, st.v, s.workspace.ship, np.zeros((2, 3)),
-            np.zeros((2, 2)), np.zeros((2, 4)), np.zeros(2), np.zeros(2), np.empty((0, 3)))
+    return (*_contact_state(), np.zeros((2, 3)), np.zeros((2, 2)), np.zeros((2, 4)), np.zeros(2), np.zeros(2),
+            np.empty((0, 3)))
 
 
 def _hydro_residual() -> tuple:

@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..kernel_cache import njit
+from .arrays import copy_into
 
 
 @njit(cache=True)
@@ -153,9 +154,7 @@ def band_positive_pivots(ab: np.ndarray, n: int, kl: int, ku: int, work: np.ndar
     (same shape) is overwritten.
     """
     kv = kl + ku
-    for i in range(ab.shape[0]):  # element copy: no shape check (whose error formatting takes a second to compile)
-        for j in range(ab.shape[1]):
-            work[i, j] = ab[i, j]
+    copy_into(work, ab)
     for j in range(n):
         piv = work[kv, j]
         if not piv > 0.0:
