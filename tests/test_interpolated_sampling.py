@@ -66,7 +66,7 @@ def test_the_nodal_interpolant_reproduces_a_cubic_motion_exactly():
     from towcable_fmu.nodal.integrators import _interpolate, new_interpolant
 
     sim = simulation_from("hanging_cable", {"cable.formulation": "nodal_position"})
-    n = sim.q.size
+    n = sim.state.q.size
     c = np.random.default_rng(7).normal(size=(6, n))
     q = lambda t: c[0] + c[1] * t + c[2] * t ** 2 + c[3] * t ** 3  # noqa: E731
     v = lambda t: c[1] + 2.0 * c[2] * t + 3.0 * c[3] * t ** 2  # noqa: E731

@@ -363,10 +363,10 @@ def test_banded_iteration_matrix_holds_every_coupling():
     sim.initialize()
     m = sim.model
     rng = np.random.default_rng(1)
-    n = sim.q.size
-    q = sim.q + 0.01 * rng.standard_normal(n)
+    n = sim.state.q.size
+    q = sim.state.q + 0.01 * rng.standard_normal(n)
     v, a = 0.3 * rng.standard_normal(n), rng.standard_normal(n)
-    q[:3], v[:3], a[:3] = sim.q[:3], 0.0, 0.0
+    q[:3], v[:3], a[:3] = sim.state.q[:3], 0.0, 0.0
     ca, cv, cq = 1.0, 0.05, 0.001
     r0 = np.empty(n)
     residual(m, q, v, a, 0.0, r0)

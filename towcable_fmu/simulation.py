@@ -8,12 +8,10 @@ and the benchmarks all drive this same object.
 from __future__ import annotations
 
 import math
-from pathlib import Path
-from typing import Any, Callable, Iterable, Mapping
+from typing import Any, Iterable, Mapping
 
 import numpy as np
 
-from . import contract
 from . import drive as drive_poly
 from .ancf import element, initial_shape, measures
 from .ancf.mesh import build_mesh, build_model, held_load_forces, winch_radius
@@ -27,11 +25,10 @@ from .kinematics import rotation_matrix
 from .rigid_body import ROW_TOW, angular_kinematics, rotation, tow_point_state
 from .hydro.turbulence import TurbulenceSeries
 from .numerics import genalpha
-from .numerics.statics import StaticsResult, solve_statics
-from .scene import load_scene
+from .numerics.statics import solve_statics
 from .scene.model import Scene
-from .sampling import output_interval, sample_times
 from .ship_input import check_ship_state, motion_source
+from .simulation_driver import SimulationDriver
 
 #: Outputs of a scene with a rigid load held by the cable (``[load]``), see :meth:`Simulation._load_outputs`.
 LOAD_OUTPUTS = ("tension.load", "load.angle", "energy.load")
@@ -74,8 +71,9 @@ def solver_options(scene: Scene) -> genalpha.SolverOptions:
                                   winch_kp=0.0 if w is None else w.kp, winch_kd=0.0 if w is None else w.kd)
 
 
-class Simulation:
-    """One towed-cable system in time.
+class Simulation(SimulationDriver):
+    """One ANCF towed-cable system in time (the protocol of :mod:`towcable_fmu.protocol`,
+    its common part in :mod:`towcable_fmu.simulation_driver`).
 
     Parameters
     ----------
@@ -89,6 +87,9 @@ class Simulation:
     >>> out = sim.advance(1.0)                                                   # doctest: +SKIP
     >>> out["tension.top"]                                                       # doctest: +SKIP
     """
+
+    STATE_FIELDS = genalpha.IntegratorState._fields
+    COUNTER_NAMES = genalpha.STAT_NAMES
 
     def __init__(self, scene: Scene) -> None:
         if scene.cable.formulation != "ancf":
@@ -104,7 +105,7 @@ class Simulation:
             compensation_config(scene, 0.0)  # validate the table now, before any computation
         self.state = genalpha.new_state(self.model.free_idx.size)
         self.workspace = genalpha.new_workspace(self.model)
-        self.statics: StaticsResult | None = None
+        self._statics: dict[str, float] = {}
         self.turbulence: TurbulenceSeries | None = None
         self._setpoint = (0.0, 0.0)
         self._initialized = False
@@ -114,6 +115,7 @@ class Simulation:
         self.layout = OutputLayout(towbody=scene.towbody is not None, winch=scene.winch is not None,
                                    sheave=scene.sheave is not None, contact=bool(self.model.terms.contact.enabled),
                                    rigid=rigid)
+        self.names = self.layout.names + (LOAD_OUTPUTS if self.model.terms.rigid_load.enabled else ())
         #: What the compiled outputs need of the scene.
         self.output_scene = OutputScene(
             xi=_PROFILE_XI, body_mass=-1.0 if scene.towbody is None or rigid else float(scene.towbody.mass),
@@ -128,12 +130,6 @@ class Simulation:
 
             self.viv = WakeCoupling(scene, self.mesh.segment_of_element, self.mesh.lengths, self.model.terms.wake.load)
 
-    @classmethod
-    def from_scene(cls, name_or_path: str | Path,
-                   overrides: Mapping[str, Any] | Iterable[tuple[str, Any]] = ()) -> "Simulation":
-        """Load a built-in scene by name, or a scene file, with dotted-key overrides."""
-        return cls(load_scene(name_or_path, overrides))
-
     # ------------------------------------------------------------------ time
     @property
     def n_elements(self) -> int:
@@ -145,45 +141,20 @@ class Simulation:
         """Current simulation time [s]."""
         return float(self.state.clock[genalpha.CLOCK_TIME])
 
-    def initialize(self, t0: float = 0.0, ship: np.ndarray | None = None,
-                   setpoint: tuple[float, float] | None = None, statics: bool | None = None,
-                   q0: np.ndarray | None = None) -> dict[str, float]:
+    def _initial_state(self, t0: float, ship: np.ndarray | None, setpoint: tuple[float, float] | None,
+                       statics: bool | None, q0: np.ndarray | None = None) -> dict[str, float]:
         """Lay out the initial shape, solve the statics and set consistent accelerations.
 
         A rigid load with ``held = true`` is held in the statics along the cable's initial
         direction and let go at ``t0`` (:func:`~towcable_fmu.ancf.mesh.held_load_forces`).
-
-        Parameters
-        ----------
-        t0
-            Start time [s].
-        ship
-            Ship state (3, 6) at t0; default: the scene's motion source at t0.
-        setpoint
-            Winch set-point (phi_sp [rad], phi_sp_rate [rad/s]).
-        statics
-            Solve the statics first (default: the scene's ``statics.enabled``).
-        q0
-            Start from these coordinates (full vector, e.g. the equilibrium of the same
-            mesh under a slightly different load, to follow a load sweep) instead of the
-            laid-out initial shape; the prescribed entries are overwritten.
-
-        Returns
-        -------
-        dict
-            Outputs at t0 (see :meth:`outputs`).
-
-        Raises
-        ------
-        SolverError
-            If the statics do not converge or the initial state has no finite acceleration.
+        ``q0``: start from these coordinates (full vector, e.g. the equilibrium of the same
+        mesh under a slightly different load, to follow a load sweep) instead of the
+        laid-out initial shape; the prescribed entries are overwritten.
         """
-        if not math.isfinite(t0):
-            raise SceneError("t0", t0, "a finite start time [s]")
-        ship0 = self.motion.evaluate(t0) if ship is None else np.asarray(ship, dtype=float)
+        ship0 = self.motion.evaluate(t0) if ship is None else ship
         check_ship_state(ship0)
         if setpoint is not None:
-            self._setpoint = (float(setpoint[0]), float(setpoint[1]))
+            self._setpoint = setpoint
         st = self.state
         if self.viv is not None:
             self.viv.reset()
@@ -204,9 +175,12 @@ class Simulation:
             steady = self.model._replace(water=self.model.water._replace(turb=np.zeros((0, 3))))
             if self.scene.load is not None and self.scene.load.held:  # released at t0 (the run's own loads)
                 steady = steady._replace(f_const=held_load_forces(self.scene, steady))
-            self.statics = solve_statics(steady, st.q, ship0, st.phi, t0, tolerance=cfg.tolerance,
-                                         max_iterations=cfg.max_iterations)
-            st.q[:] = self.statics.q
+            result = solve_statics(steady, st.q, ship0, st.phi, t0, tolerance=cfg.tolerance,
+                                   max_iterations=cfg.max_iterations)
+            self._statics = {"solver.statics_iterations": result.iterations,
+                             "solver.statics_residual": result.residual_norm,
+                             "solver.statics_wall_time": result.wall_time}
+            st.q[:] = result.q
         self._start_turbulence(t0)
         if self.scene.compensation is not None:
             from controllers import SetpointAlgorithm
@@ -223,9 +197,7 @@ class Simulation:
         if not genalpha.initial_acceleration(self.model, self.options, st, self.workspace, t0, *drive):
             raise SolverError("the initial state has no finite acceleration (singular mass matrix or "
                               "non-finite forces)")
-        self._initialized = True
-        self._last_outputs = self.outputs()
-        return self._last_outputs
+        return None
 
     def _start_turbulence(self, t0: float) -> None:
         """(Re)start the turbulence series at t0 (same seed: same series)."""
@@ -359,29 +331,20 @@ class Simulation:
         x[:, 1, :] = x[:, 1, :] @ rot.T
         return x.ravel()
 
-    def _require_initialized(self) -> None:
-        if not self._initialized:
-            raise SolverError("call initialize() before stepping the simulation")
+    def _integrate_to(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> None:
+        """Integrate to ``t_end`` [s] with the drive table (the caller rolls back on failure).
 
-    def _advance_with(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> dict[str, float]:
+        Raises
+        ------
+        SolverError
+            If Newton fails at the minimum step size.
+        """
         self._cover(t_end)
-        saved = self._snapshot()
-        wake = None if self.viv is None else self.viv.get_state()
-        status = self._integrate(t_end, drive)
-        if status != genalpha.OK:
-            reached = self.time
-            self._restore(saved)
-            if wake is not None:
-                self.viv.set_state(wake)
-            raise SolverError(f"the solver could not advance from t = {saved[0].clock[genalpha.CLOCK_TIME]:.6g} s to "
-                              f"t = {t_end:.6g} s: Newton failed at the minimum step size "
-                              f"{self.options.h_min:g} s near t = {reached:.6g} s{self._failure_hint()}")
-        out = self.outputs()
-        if not all(math.isfinite(v) for v in out.values()):
-            self._restore(saved)
-            raise SolverError(f"non-finite outputs at t = {t_end:.6g} s")
-        self._last_outputs = out
-        return out
+        t_start = self.time
+        if self._integrate(t_end, drive) != genalpha.OK:
+            raise SolverError(f"the solver could not advance from t = {t_start:.6g} s to t = {t_end:.6g} s: Newton "
+                              f"failed at the minimum step size {self.options.h_min:g} s near t = {self.time:.6g} s"
+                              f"{self._failure_hint()}")
 
     def _failure_hint(self) -> str:
         """What a failed step of a rigid-body scene may be due to (empty otherwise)."""
@@ -421,59 +384,28 @@ class Simulation:
         t0 = self.time
         if not (math.isfinite(t_end) and t_end > t0):
             raise SceneError("t_end", t_end, f"a finite time > {t0:g} s")
-        return self._advance_with(t_end, self._drive(np.array([t0, t_end])))
+        return self._guarded(lambda: self._integrate_to(t_end, self._drive(np.array([t0, t_end]), self.options.h_max)))
 
-    def _drive(self, marks: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Drive table from the scene's own ship motion through the times ``marks`` [s].
+    def _setpoints_at(self, times: np.ndarray, ships: np.ndarray) -> np.ndarray:
+        """The drive table's winch set-points: a compensating scene's algorithm at the knots,
+        with the measured sheave angle (rigorous algorithms) of the current state; else the
+        set-point held."""
+        if self.compensation is None:
+            return np.tile(self._setpoint, (times.size, 1))
+        # the measured sheave angle (rigorous algorithms) is that at the start of the interval
+        angle = self._last_outputs.get("sheave_angle", np.nan) if self.compensation.config.rigorous else np.nan
+        sp = self.compensation.compute_series(ships, np.full(times.size, angle))
+        setpoints = np.column_stack([sp.phi_sp, sp.phi_sp_rate])
+        self._setpoint = (float(setpoints[-1, 0]), float(setpoints[-1, 1]))
+        return setpoints
 
-        Knots lie at the marks and between them no farther apart than the solver step:
-        the quintic Hermite pieces then follow any motion the solver itself can resolve.
-        The winch set-point of a compensating scene is computed at the knots, with the
-        measured sheave angle (rigorous algorithms) of the current state.
-        """
-        times = drive_poly.knot_times(marks, self.options.h_max)
-        ships = self.motion.evaluate_many(times)
-        if self.compensation is not None:
-            # the measured sheave angle (rigorous algorithms) is that at the start of the interval
-            angle = self._last_outputs.get("sheave_angle", np.nan) if self.compensation.config.rigorous else np.nan
-            sp = self.compensation.compute_series(ships, np.full(times.size, angle))
-            setpoints = np.column_stack([sp.phi_sp, sp.phi_sp_rate])
-            self._setpoint = (float(setpoints[-1, 0]), float(setpoints[-1, 1]))
-        else:
-            setpoints = np.tile(self._setpoint, (times.size, 1))
-        return drive_poly.knot_drive(times, ships, setpoints)
-
-    def step(self, dt: float, ship: np.ndarray, setpoint: tuple[float, float] | None = None) -> dict[str, float]:
-        """Advance by ``dt`` with the ship state given at the start of the step (FMU style).
-
-        Parameters
-        ----------
-        dt
-            Step [s] (> 0).
-        ship
-            Ship state (3, 6) at the current time, extrapolated with constant
-            acceleration over the step.
-        setpoint
-            Winch set-point (phi_sp [rad], phi_sp_rate [rad/s]); default: unchanged.
-
-        Raises
-        ------
-        SceneError
-            Bad inputs (non-finite, wrong shape, non-positive dt); nothing is changed.
-        SolverError
-            If a step fails; the state is then left as it was before the call.
-        """
-        self._require_initialized()
-        if not (math.isfinite(dt) and dt > 0.0):
-            raise SceneError("dt", dt, "a finite step > 0 s")
-        ship = np.asarray(ship, dtype=float)
-        check_ship_state(ship)
+    def _advance(self, dt: float, ship: np.ndarray, setpoint: tuple[float, float] | None) -> None:
+        """One communication step: the ship state at its start extrapolated with constant
+        acceleration, the winch set-point (default: unchanged) held."""
         if setpoint is not None:
-            if not all(math.isfinite(float(x)) for x in setpoint):
-                raise SceneError("setpoint", tuple(setpoint), "finite phi_sp [rad] and phi_sp_rate [rad/s]")
-            self._setpoint = (float(setpoint[0]), float(setpoint[1]))
+            self._setpoint = setpoint
         t0 = self.time
-        return self._advance_with(t0 + dt, drive_poly.taylor_drive(t0, ship, self._setpoint))
+        self._integrate_to(t0 + dt, drive_poly.taylor_drive(t0, ship, self._setpoint))
 
     # --------------------------------------------------------------- outputs
     def reactions(self) -> np.ndarray:
@@ -523,16 +455,6 @@ class Simulation:
         arc = self.mesh.node_arc[:-1, None] + self.mesh.lengths[:, None] * _PROFILE_XI[None, :]
         return arc.ravel(), t.ravel()
 
-    @property
-    def output_names(self) -> tuple[str, ...]:
-        """The outputs this scene has, ``time`` first: the keys of :meth:`outputs` and the
-        columns of :meth:`run` (units: :meth:`unit_of`)."""
-        return ("time", *self.layout.names, *(LOAD_OUTPUTS if self.model.terms.rigid_load.enabled else ()))
-
-    def unit_of(self, name: str) -> str:
-        """Unit of an output name (the variable contract's)."""
-        return contract.unit_of(name)
-
     def outputs(self) -> dict[str, float]:
         """Named outputs at the current time (names as in docs/design.md), SI units.
 
@@ -540,12 +462,16 @@ class Simulation:
         prescribed end (the consistent nodal force, which converges faster than the
         strain), else the axial force from the strain; ``tension.towbody`` is the force
         the cable exerts on the body (its mass times acceleration minus its other forces).
+        The latest are kept: a rigorous compensation measures the sheave angle in them.
         """
-        out = {"time": self.time}
-        out.update(zip(self.layout.names, self._output_array()[self.layout.index].tolist()))
+        self._last_outputs = super().outputs()
+        return self._last_outputs
+
+    def _output_row(self) -> np.ndarray:
+        row = self._output_array()[self.layout.index]
         if self.model.terms.rigid_load.enabled:
-            out.update(self._load_outputs())
-        return out
+            row = np.concatenate([row, list(self._load_outputs().values())])
+        return row
 
     def _output_array(self) -> np.ndarray:
         """All fields of :data:`~towcable_fmu.output_kernel.OUTPUT_FIELDS` (NaN: not in the scene)."""
@@ -674,142 +600,80 @@ class Simulation:
         return {"force": force, "span": span, "ends": ends, "lowest": lowest, "energy": energy,
                 "distribution": dist[:rows]}
 
-    def statistics(self) -> dict[str, float]:
-        """Solver counters since initialisation, plus the statics result."""
-        out = {f"solver.{name}": int(v) for name, v in zip(genalpha.STAT_NAMES, self.state.stats)}
-        out["solver.last_error_estimate"] = float(self.state.clock[genalpha.CLOCK_ERROR])
-        out["solver.time_step"] = float(self.state.clock[genalpha.CLOCK_STEP])
-        if self.statics is not None:
-            out["solver.statics_iterations"] = self.statics.iterations
-            out["solver.statics_residual"] = self.statics.residual_norm
-            out["solver.statics_wall_time"] = self.statics.wall_time
-        return out
+    def _counters(self) -> np.ndarray:
+        return self.state.stats
+
+    def _extra_statistics(self) -> dict[str, float]:
+        return {"solver.last_error_estimate": float(self.state.clock[genalpha.CLOCK_ERROR]),
+                "solver.time_step": float(self.state.clock[genalpha.CLOCK_STEP])}
 
     # ----------------------------------------------------------------- state
-    def _snapshot(self) -> tuple[genalpha.IntegratorState, tuple[float, float]]:
-        return genalpha.IntegratorState(*(np.copy(x) for x in self.state)), self._setpoint
+    def _state_arrays(self) -> genalpha.IntegratorState:
+        return self.state
 
-    def _restore(self, saved: tuple[genalpha.IntegratorState, tuple[float, float]]) -> None:
-        state, self._setpoint = saved
-        for dst, src in zip(self.state, state):
-            dst[...] = src
-        genalpha.refactorize_from_state(self.model, self.options, self.state, self.workspace)
-
-    def get_state(self) -> dict[str, Any]:
-        """The complete solver state as JSON-able data (lists and floats)."""
-        return {"fields": {name: np.asarray(getattr(self.state, name)).tolist()
-                           for name in genalpha.IntegratorState._fields},
-                "setpoint": list(self._setpoint), "initialized": self._initialized,
+    def _extra_state(self) -> dict[str, Any]:
+        return {"setpoint": list(self._setpoint),
                 "turbulence_t0": None if self.turbulence is None else self.turbulence.t0,
-                "viv": None if self.viv is None else self.viv.get_state(),
-                "n_coordinates": int(self.state.q.size)}
+                "viv": None if self.viv is None else self.viv.get_state()}
 
-    def set_state(self, data: Mapping[str, Any]) -> None:
-        """Restore a state from :meth:`get_state`; the run then continues bit-identically.
-
-        Raises
-        ------
-        SceneError
-            If the data does not belong to this model.
-        """
-        if int(data.get("n_coordinates", -1)) != self.state.q.size:
-            raise SceneError("state.n_coordinates", data.get("n_coordinates"),
-                             f"{self.state.q.size} (the state belongs to a different mesh)")
-        fields = data["fields"]
-        arrays = genalpha.IntegratorState(*(np.asarray(fields[name], dtype=getattr(self.state, name).dtype)
-                                            for name in genalpha.IntegratorState._fields))
-        if data.get("turbulence_t0") is not None and (self.turbulence is None
-                                                       or self.turbulence.t0 != data["turbulence_t0"]):
-            self._start_turbulence(float(data["turbulence_t0"]))
-        self._cover(float(arrays.clock[genalpha.CLOCK_TIME]))
-        self._restore((arrays, (float(data["setpoint"][0]), float(data["setpoint"][1]))))
+    def _load_extra_state(self, data: Mapping[str, Any]) -> None:
+        t0 = data.get("turbulence_t0")
+        if t0 is not None and (self.turbulence is None or self.turbulence.t0 != t0):
+            self._start_turbulence(float(t0))
+        self._setpoint = (float(data["setpoint"][0]), float(data["setpoint"][1]))
         if self.viv is not None and data.get("viv") is not None:
             self.viv.set_state(data["viv"])
-        self._initialized = bool(data["initialized"])
+
+    def _restored(self) -> None:
+        self._cover(self.time)
+        genalpha.refactorize_from_state(self.model, self.options, self.state, self.workspace)
 
     # ------------------------------------------------------------------- run
-    def run(self, duration: float, interval: float | None = None,
-            progress: Callable[[float, float], None] | None = None) -> dict[str, np.ndarray]:
-        """Initialise if needed and record outputs every ``interval`` for ``duration``.
+    def _rigorous(self) -> bool:
+        """Whether the set-point needs the measured sheave angle of the latest state."""
+        return self.compensation is not None and self.compensation.config.rigorous
 
-        Parameters
-        ----------
-        duration
-            Simulated time [s] (> 0).
-        interval
-            Output interval [s]; default: the scene's ``output.interval``.
-        progress
-            Called as ``progress(t, t_end)`` after every block of samples (about 1 s).
+    def _block_size(self, interval: float) -> int:
+        # per sample when the set-point needs the measured angle of the latest state
+        return 1 if self._rigorous() else super()._block_size(interval)
 
-        Returns
-        -------
-        dict
-            Output name -> array over the recorded samples (including the start).
+    def _record(self, block: np.ndarray, rows: np.ndarray, t_land: float) -> int:
+        """Step through the sample times ``block`` [s] and write their outputs into ``rows``.
 
-        Raises
-        ------
-        SolverError
-            If a step fails or an output is not finite; the state is then that of the
-            last accepted step.
+        In the compiled recording loop, the integrator keeps its own steps and reads the
+        samples from its interpolant (not with a rigorous compensation, whose set-point
+        needs the state at every sample); a rigid load's outputs and the wake coupling are
+        recorded in Python, one sample at a time.
         """
-        dt = output_interval(duration, interval, self.scene.output.interval)
-        if not self._initialized:
-            self.initialize()
-        t0 = self.time
-        samples = sample_times(t0, duration, dt)
-        n = samples.size
-        index = self.layout.index
-        values = np.empty((n + 1, index.size))
-        values[0] = self._output_array()[index]
-        loads = [self._load_outputs()] if self.model.terms.rigid_load.enabled else None
-        # one drive table and one compiled call per about a second of samples (per sample
-        # when the set-point needs the measured angle of the latest state); the same knots
-        # as advance()
-        rigorous = self.compensation is not None and self.compensation.config.rigorous
-        chunk = 1 if rigorous else max(1, int(1.0 / dt))
-        if progress is not None:
-            progress(t0, t0 + duration)
-        # the integrator's own steps, samples read from its interpolant (not with a rigorous
-        # compensation, whose set-point needs the state at every sample)
-        interpolate = loads is None and self.viv is None and not rigorous
-        t_land = float(samples[-1])
-        for first in range(0, n, chunk):
-            stop = min(n, first + chunk)
-            if interpolate:  # from the last step's start (samples inside it), one step past the block
-                start = min(self.time, float(self.workspace.step_start[0])) if samples[first] < self.time else self.time
-                end = min(t_land, float(samples[stop - 1]) + self.options.h_max)
-                marks = np.concatenate([[start], samples[first:stop][samples[first:stop] > start], [end]])
-                drive = self._drive(np.unique(marks))
-                self._cover(end)
-            else:
-                drive = self._drive(np.concatenate([[self.time], samples[first:stop]]))
-                self._cover(samples[stop - 1])
-            if loads is None and self.viv is None:
-                reached = first + advance_recording(
-                    self.model, self.options, self.state, self.workspace, samples[first:stop], *drive,
-                    self.output_scene, index, values[first + 1:stop + 1], True, interpolate, t_land)
-            else:  # the rigid load's outputs, or the wake coupling, in Python: one sample at a time
-                reached = first
-                while reached < stop and self._integrate(samples[reached], drive) == genalpha.OK:
-                    values[reached + 1] = self._output_array()[index]
-                    if loads is not None:
-                        loads.append(self._load_outputs())
-                    if not np.all(np.isfinite(values[reached + 1])):
-                        break
-                    reached += 1
-            if reached < stop:
-                if self.time < samples[reached] - 1e-12 * max(1.0, abs(samples[reached])):
-                    raise SolverError(f"the solver could not advance to t = {samples[reached]:.6g} s: Newton "
-                                      f"failed at the minimum step size {self.options.h_min:g} s near "
-                                      f"t = {self.time:.6g} s{self._failure_hint()}")
-                raise SolverError(f"non-finite outputs at t = {samples[reached]:.6g} s")
-            if progress is not None:
-                progress(self.time, t0 + duration)
-            if rigorous:
-                self._last_outputs = self.outputs()
-        self._last_outputs = self.outputs()
-        out = {"time": np.concatenate([[t0], samples])}
-        out.update(zip(self.layout.names, values.T))
-        if loads is not None:
-            out.update({name: np.array([r[name] for r in loads]) for name in loads[0]})
-        return out
+        rigorous = self._rigorous()
+        in_python = self.model.terms.rigid_load.enabled or self.viv is not None
+        interpolate = not in_python and not rigorous
+        h = self.options.h_max
+        if interpolate:
+            marks = self._interpolation_marks(block, self.time, float(self.workspace.step_start[0]), h, t_land)
+        else:
+            marks = np.concatenate([[self.time], block])
+        drive = self._drive(marks, h)
+        self._cover(float(marks.max()))
+        if not in_python:
+            reached = advance_recording(self.model, self.options, self.state, self.workspace, block, *drive,
+                                        self.output_scene, self.layout.index, rows, True, interpolate, t_land)
+        else:
+            reached = 0
+            while reached < block.size and self._integrate(block[reached], drive) == genalpha.OK:
+                rows[reached] = self._output_row()
+                if not np.all(np.isfinite(rows[reached])):
+                    break
+                reached += 1
+        if rigorous:
+            self.outputs()  # the measured angle for the next sample's set-point
+        return reached
+
+    def _failure(self, t: float) -> SolverError:
+        if self.time < t - 1e-12 * max(1.0, abs(t)):
+            return SolverError(f"the solver could not advance to t = {t:.6g} s: Newton failed at the minimum step "
+                               f"size {self.options.h_min:g} s near t = {self.time:.6g} s{self._failure_hint()}")
+        return SolverError(f"non-finite outputs at t = {t:.6g} s")
+
+    def _end_recording(self) -> None:
+        self.outputs()

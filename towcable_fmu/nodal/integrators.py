@@ -14,8 +14,8 @@
 
 The top node is prescribed (exact elimination): its position, velocity and
 acceleration follow the ship point at every stage from the drive table
-(:mod:`towcable_fmu.drive`). ``clock`` holds (t [s], current step [s]); ``stats`` the
-counters of :data:`STAT_NAMES`.
+(:mod:`towcable_fmu.drive`). The integrator's settings travel as one
+:class:`NodalOptions`, its state as one :class:`NodalState`.
 """
 
 from __future__ import annotations
@@ -42,7 +42,41 @@ CLOCK_STEP = 1  #: current step size [s]
 GENALPHA = 0
 RK4 = 1
 INTEGRATORS = {"genalpha": GENALPHA, "rk4": RK4}
+# fields of the integrator's counters (NodalState.stats), named in STAT_NAMES
+STAT_STEPS = 0
+STAT_NEWTON = 1
+STAT_JACOBIANS = 2
+STAT_RESIDUALS = 3
+STAT_REJECTED = 4
 STAT_NAMES = ("steps", "newton_iterations", "jacobian_factorisations", "residual_evaluations", "rejected_steps")
+
+
+class NodalOptions(NamedTuple):
+    """Integrator settings (from the scene's ``[solver]`` table)."""
+
+    method: int          #: GENALPHA or RK4
+    h_max: float         #: largest (and first) step [s]
+    h_min: float         #: smallest step [s]: a failure below it ends the run
+    coef: np.ndarray     #: generalised-alpha (alpha_m, alpha_f, gamma, beta)
+    newton_tol: float    #: Newton's position tolerance, relative to the shortest element
+    max_iter: int        #: Newton iterations per attempt
+
+
+class NodalState(NamedTuple):
+    """The whole integrator state; every field is an array so it can be saved and restored."""
+
+    q: np.ndarray        #: (n,) coordinates [m, rad]
+    v: np.ndarray        #: (n,) their rates
+    x: np.ndarray        #: (n,) accelerations (generalised-alpha: the scheme's a at the step end)
+    acc: np.ndarray      #: (n,) the scheme's acceleration-like variable
+    clock: np.ndarray    #: (2,) the CLOCK_* fields: time [s], current step [s]
+    stats: np.ndarray    #: (5,) int64 counters, the STAT_* fields
+
+
+def new_state(n: int, h: float) -> NodalState:
+    """A zero state for ``n`` coordinates at t = 0 with the step ``h`` [s]."""
+    return NodalState(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.array([0.0, h]),
+                      np.zeros(len(STAT_NAMES), dtype=np.int64))
 
 
 @njit(cache=True)
@@ -66,22 +100,16 @@ def _factor(ab: np.ndarray, kl: int, ipiv: np.ndarray) -> bool:
 
 
 @njit(cache=True)
-def genalpha_step(m: NodalModel, h: float, coef: np.ndarray, tol: float, max_iter: int, t: float,
-                  drive_t: np.ndarray, drive_x: np.ndarray, q: np.ndarray, v: np.ndarray, x: np.ndarray,
-                  acc: np.ndarray, out: np.ndarray, stats: np.ndarray) -> bool:
-    """One generalised-alpha step of size h [s] from t.
+def genalpha_step(m: NodalModel, options: NodalOptions, h: float, t: float, drive_t: np.ndarray,
+                  drive_x: np.ndarray, state: NodalState, out: np.ndarray) -> bool:
+    """One generalised-alpha step of size h [s] from t (the state's q, v, x, acc).
 
-    Parameters
-    ----------
-    coef
-        (alpha_m, alpha_f, gamma, beta).
-    tol
-        Newton stops when the position correction is below ``tol`` times the shortest element.
-    q, v, x, acc
-        Positions, velocities, accelerations and the scheme's acceleration-like variable at t.
-    out
-        Output (4, 3 n_nodes): the same four at t + h (valid when True is returned).
+    Newton stops when the position correction is below ``options.newton_tol`` times the
+    shortest element. ``out`` (4, n) receives q, v, x, acc at t + h (valid when True is
+    returned); the state's arrays are not changed except its counters.
     """
+    coef, stats = options.coef, state.stats
+    q, v, x, acc = state.q, state.v, state.x, state.acc
     am, af, gamma, beta = coef[0], coef[1], coef[2], coef[3]
     q1, v1, x1, a1 = out[0], out[1], out[2], out[3]
     ca = (1.0 - af) / (1.0 - am)
@@ -98,19 +126,20 @@ def genalpha_step(m: NodalModel, h: float, coef: np.ndarray, tol: float, max_ite
     ab = np.empty((3 * kl + 1, n - 3))
     ipiv = np.empty(n - 3, dtype=np.int64)
     work = np.empty((4, n))
-    scale = tol * m.L0.min()
+    scale = options.newton_tol * m.L0.min()
     for attempt in range(2):  # modified Newton, then full Newton from where it stopped
-        for it in range(max_iter):
+        for it in range(options.max_iter):
             residual(m, q1, v1, x1, t + h, r)
-            stats[3] += 1
+            stats[STAT_RESIDUALS] += 1
             if it == 0 or attempt == 1:
-                stats[3] += iteration_matrix(m, q1, v1, x1, t + h, 1.0, cv, cq, 1e-7 * m.L0.min() / cq, r, ab, work)
-                stats[2] += 1
+                stats[STAT_RESIDUALS] += iteration_matrix(m, q1, v1, x1, t + h, 1.0, cv, cq, 1e-7 * m.L0.min() / cq,
+                                                          r, ab, work)
+                stats[STAT_JACOBIANS] += 1
                 if not _factor(ab, kl, ipiv):
                     return False
             d = -r[3:]
             band_solve(ab, n - 3, kl, kl, ipiv, d)
-            stats[1] += 1
+            stats[STAT_NEWTON] += 1
             if not np.all(np.isfinite(d)):
                 return False
             x1[3:] += d
@@ -134,7 +163,7 @@ def accelerations(m: NodalModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t:
     ab = np.empty((3 * kl + 1, n - 3))
     ipiv = np.empty(n - 3, dtype=np.int64)
     work = np.empty((4, n))
-    stats[3] += 1 + iteration_matrix(m, q, v, a, t, 1.0, 0.0, 0.0, 1.0, r, ab, work)
+    stats[STAT_RESIDUALS] += 1 + iteration_matrix(m, q, v, a, t, 1.0, 0.0, 0.0, 1.0, r, ab, work)
     if m.rigid.enabled and not attitude_ok(q[n - 6:]):
         return False
     if not _factor(ab, kl, ipiv):
@@ -243,21 +272,19 @@ def _interpolate(m: NodalModel, ip: Interpolant, q: np.ndarray, v: np.ndarray, x
 
 
 @njit(cache=True)
-def advance_recording(m: NodalModel, method: int, h_max: float, h_min: float, coef: np.ndarray, tol: float,
-                      max_iter: int, q: np.ndarray, v: np.ndarray, x: np.ndarray, acc: np.ndarray,
-                      clock: np.ndarray, stats: np.ndarray, samples: np.ndarray, drive_t: np.ndarray,
-                      drive_x: np.ndarray, values: np.ndarray, ip: Interpolant, interpolate: bool,
-                      t_land: float) -> int:
+def advance_recording(m: NodalModel, options: NodalOptions, state: NodalState, samples: np.ndarray,
+                      drive_t: np.ndarray, drive_x: np.ndarray, values: np.ndarray, ip: Interpolant,
+                      interpolate: bool, t_land: float) -> int:
     """Step to each time in ``samples`` [s] and record :func:`output_values` in ``values``.
 
-    Steps are ``clock[CLOCK_STEP]`` [s] long (at most h_max; halved after a failed
-    generalised-alpha step, doubled back after a success). Without ``interpolate`` they are
-    shortened to land on every sample. With it the integrator keeps its own steps and
-    never passes ``t_land`` [s] (the last two steps before it split evenly): a sample
-    inside a step reads the state interpolated in that step (:func:`_interpolate`, from
-    ``ip``), so the output interval does not change the steps; the state may then end up
-    to one step past the last sample (the next call's drive table must start at
-    ``ip.t0``).
+    Steps are ``state.clock[CLOCK_STEP]`` [s] long (at most ``options.h_max``; halved
+    after a failed generalised-alpha step, doubled back after a success). Without
+    ``interpolate`` they are shortened to land on every sample. With it the integrator
+    keeps its own steps and never passes ``t_land`` [s] (the last two steps before it
+    split evenly): a sample inside a step reads the state interpolated in that step
+    (:func:`_interpolate`, from ``ip``), so the output interval does not change the steps;
+    the state may then end up to one step past the last sample (the next call's drive
+    table must start at ``ip.t0``).
 
     Returns
     -------
@@ -265,6 +292,7 @@ def advance_recording(m: NodalModel, method: int, h_max: float, h_min: float, co
         Number of samples reached (fewer than ``samples.size`` when a step failed below
         h_min or produced non-finite values; the state is then the last accepted one).
     """
+    q, v, x, clock, stats = state.q, state.v, state.x, state.clock, state.stats
     out = np.empty((4, q.size))
     for s in range(samples.size):
         target = samples[s]
@@ -278,26 +306,26 @@ def advance_recording(m: NodalModel, method: int, h_max: float, h_min: float, co
                 h = h if n_rem > 2 else remaining / n_rem
             else:
                 h = min(h, target - t)
-            if method == GENALPHA:
-                ok = genalpha_step(m, h, coef, tol, max_iter, t, drive_t, drive_x, q, v, x, acc, out, stats)
+            if options.method == GENALPHA:
+                ok = genalpha_step(m, options, h, t, drive_t, drive_x, state, out)
             else:
                 ok = rk4_step(m, h, t, drive_t, drive_x, q, v, out, stats)
             ok = ok and np.all(np.isfinite(out[0])) and np.all(np.isfinite(out[1]))
             if not ok:
-                stats[4] += 1
+                stats[STAT_REJECTED] += 1
                 clock[CLOCK_STEP] *= 0.5
-                if clock[CLOCK_STEP] < h_min or method == RK4:
+                if clock[CLOCK_STEP] < options.h_min or options.method == RK4:
                     return s
                 continue
             ip.start[0, :], ip.start[1, :], ip.start[2, :] = q, v, x
             ip.t0[0] = t
             q[:], v[:], x[:] = out[0], out[1], out[2]
-            if method == GENALPHA:
-                acc[:] = out[3]
+            if options.method == GENALPHA:
+                state.acc[:] = out[3]
             clock[CLOCK_TIME] += h
-            stats[0] += 1
+            stats[STAT_STEPS] += 1
             if h == clock[CLOCK_STEP]:
-                clock[CLOCK_STEP] = min(2.0 * clock[CLOCK_STEP], h_max)
+                clock[CLOCK_STEP] = min(2.0 * clock[CLOCK_STEP], options.h_max)
         if target >= clock[CLOCK_TIME] - 1e-12 * max(1.0, abs(target)):
             output_values(m, q, v, x, clock[CLOCK_TIME], values[s])
         else:

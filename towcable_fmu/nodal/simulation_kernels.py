@@ -36,7 +36,8 @@ def _state_call(*tail) -> Callable[[], tuple]:
     """Arguments ``(model, q, v, a, t, *tail)`` (``tail`` may name ``"q"`` for a vector)."""
     def arguments() -> tuple:
         s = _reference()
-        return (s.model, s.q, s.v, s.x, 0.0) + tuple(s.q if isinstance(x, str) else x for x in tail)
+        st = s.state
+        return (s.model, st.q, st.v, st.x, 0.0) + tuple(st.q if isinstance(x, str) else x for x in tail)
     return arguments
 
 
@@ -46,33 +47,32 @@ def _iteration_matrix() -> tuple:
 
 def _prescribe_top() -> tuple:
     s = _reference()
-    return s.model, *_DRIVE, 0.0, s.q, s.v, s.x
+    return s.model, *_DRIVE, 0.0, s.state.q, s.state.v, s.state.x
 
 
 def _expand() -> tuple:
-    s = _reference()
-    return s.model, s.q, s.v, s.x, s.q, s.v, s.x
+    st = _reference().state
+    return _reference().model, st.q, st.v, st.x, st.q, st.v, st.x
 
 
 def _genalpha_step() -> tuple:
     s = _reference()
-    return (s.model, 0.1, s.coef, 1e-6, 10, 0.0, *_DRIVE, s.q, s.v, s.x, s.acc, np.zeros((4, 1)), s.stats)
+    return s.model, s.options, 0.1, 0.0, *_DRIVE, s.state, np.zeros((4, 1))
 
 
 def _rk4_step() -> tuple:
     s = _reference()
-    return s.model, 0.1, 0.0, *_DRIVE, s.q, s.v, np.zeros((4, 1)), s.stats
+    return s.model, 0.1, 0.0, *_DRIVE, s.state.q, s.state.v, np.zeros((4, 1)), s.state.stats
 
 
 def _solve_statics() -> tuple:
     s = _reference()
-    return s.model, s.q, 0.0, 1e-8, 100
+    return s.model, s.state.q, 0.0, 1e-8, 100
 
 
 def _advance_recording() -> tuple:
     s = _reference()
-    return (s.model, s.method, 0.1, 1e-6, s.coef, 1e-6, 10, s.q, s.v, s.x, s.acc, s.clock, s.stats, np.zeros(1),
-            *_DRIVE, np.zeros((1, 1)), s._interpolant, True, 1.0)
+    return s.model, s.options, s.state, np.zeros(1), *_DRIVE, np.zeros((1, 1)), s._interpolant, True, 1.0
 
 
 def kernel_jobs() -> list[Job]:
@@ -87,7 +87,7 @@ def kernel_jobs() -> list[Job]:
         Job("nodal.cable_residual", cable_residual, _state_call("q"), 3.0),
         Job("nodal.expand", expand, _expand, 1.0),
         Job("nodal.genalpha_step", genalpha_step, _genalpha_step, 5.5, core + ("nodal.prescribe_top",)),
-        Job("nodal.accelerations", accelerations, lambda: _state_call(_reference().stats)(), 2.0, core),
+        Job("nodal.accelerations", accelerations, lambda: _state_call(_reference().state.stats)(), 2.0, core),
         Job("nodal.rk4_step", rk4_step, _rk4_step, 3.5, ("nodal.accelerations", "nodal.prescribe_top")),
         Job("nodal.solve_statics", solve_statics, _solve_statics, 2.5, core),
         Job("nodal.advance_recording", advance_recording, _advance_recording, 4.5,

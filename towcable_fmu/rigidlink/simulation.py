@@ -1,7 +1,7 @@
-"""Driver of the rigid-link model with the interface the command line uses.
+"""The rigid-link model in time (the protocol of :mod:`towcable_fmu.protocol`, its
+common part in :mod:`towcable_fmu.simulation_driver`).
 
-:class:`RigidLinkSimulation` offers ``initialize``, ``run`` and ``statistics`` like
-:class:`towcable_fmu.simulation.Simulation`; outputs use the contract's names where
+:class:`RigidLinkSimulation` integrates with one of scipy's ODE solvers; outputs use the contract's names where
 they exist (``ship.*`` is the tug's fairlead, ``towbody.*`` the towed vessel's,
 ``tension.top`` the tension at the tug, ``tension.towbody`` at the towed vessel) plus
 the model's own (:data:`EXTRA_UNITS`).
@@ -11,14 +11,14 @@ from __future__ import annotations
 
 import math
 import time
-from typing import Any, Callable, Mapping
 
 import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK45, Radau
 
 from .. import contract
+from ..errors import SolverError
 from ..protocol import SOLVER_STATISTICS
-from ..errors import SceneError, SolverError
+from ..simulation_driver import SimulationDriver
 from .dynamics import accelerations, end_tensions, link_forces, node_kinematics
 from .initial import parabola_angles
 from .scene import RigidLinkScene, Vessel
@@ -46,14 +46,22 @@ def _heave_reference(v: Vessel, z0: float, t: float) -> tuple[float, float]:
             v.wave_amplitude * w * math.cos(w * t + v.wave_phase))
 
 
-class RigidLinkSimulation:
+class RigidLinkSimulation(SimulationDriver):
     """Tug - n rigid links - towed vessel, integrated with one of scipy's ODE solvers.
+
+    The tug is driven by the scene's thrust ramp and heave references, not by a
+    prescribed ship motion: :meth:`step` takes no ship state and no winch set-point.
 
     Parameters
     ----------
     scene
         The validated scene.
     """
+
+    STATE_FIELDS = ("y", "clock", "counters")
+    #: :data:`~towcable_fmu.protocol.SOLVER_STATISTICS` without their ``solver.`` prefix.
+    COUNTER_NAMES = tuple(name.removeprefix("solver.") for name in SOLVER_STATISTICS)
+    NEEDS_SHIP = False
 
     def __init__(self, scene: RigidLinkScene) -> None:
         self.scene = scene
@@ -66,18 +74,23 @@ class RigidLinkSimulation:
         self.tug = _vessel_vector(scene.tug)
         self.towed = _vessel_vector(scene.towed)
         self.g = scene.environment.gravity
-        self.time = 0.0
+        #: the state [q, qdot] (q: tug x, z, link angles), the time [s] and the counters
         self.y = np.concatenate(([scene.layout.span, scene.layout.height], self.theta0, np.zeros(n + 2)))
-        self._stats = {name: 0 for name in SOLVER_STATISTICS}
+        self.clock = np.zeros(1)
+        self.counters = np.zeros(len(self.COUNTER_NAMES), dtype=np.int64)
+        self.names = SERIES[1:]
         self._statics: dict[str, float] = {}
+        self._solver = None  # the ODE solver of a run in progress
+
+    @property
+    def time(self) -> float:
+        """Current simulation time [s]."""
+        return float(self.clock[0])
 
     @property
     def length(self) -> float:
         """Cable length n l [m]."""
         return float(self.l.sum())
-
-    #: The outputs of this model, ``time`` first: the columns of :meth:`run`.
-    output_names = SERIES
 
     def unit_of(self, name: str) -> str:
         """Unit of an output name (the contract's, or this model's own)."""
@@ -96,12 +109,11 @@ class RigidLinkSimulation:
                                   thrust, refs, self.g)
         return np.concatenate((y[dim:], qdd))
 
-    def outputs(self) -> dict[str, float]:
-        """Output values at the current state (names: :attr:`output_names`)."""
+    def _output_row(self) -> np.ndarray:
         return self._outputs_at(self.time, self.y)
 
-    def _outputs_at(self, t: float, y: np.ndarray) -> dict[str, float]:
-        """Output values at time ``t`` [s] for the state ``y = [q, qdot]``."""
+    def _outputs_at(self, t: float, y: np.ndarray) -> np.ndarray:
+        """Output values (:attr:`names`) at time ``t`` [s] for the state ``y = [q, qdot]``."""
         dim = self.l.size + 2
         q, qd = y[:dim], y[dim:]
         thrust, refs = self._inputs(t)
@@ -112,10 +124,8 @@ class RigidLinkSimulation:
         r, v = node_kinematics(q, qd, self.l)
         span = float(np.hypot(*(r[0] - r[-1])))
         taut = span >= (1.0 - self.scene.solver.taut_tolerance) * self.length
-        return {"time": t, "ship.x": r[0, 0], "ship.z": r[0, 1], "ship.vx": v[0, 0], "ship.vz": v[0, 1],
-                "towbody.x": r[-1, 0], "towbody.z": r[-1, 1], "towbody.vx": v[-1, 0], "towbody.vz": v[-1, 1],
-                "tension.top": t_tug, "tension.towbody": t_towed, "tension.min": t_min, "cable.span": span,
-                "cable.taut": float(taut), "tug.thrust": thrust}
+        return np.array([r[0, 0], r[0, 1], v[0, 0], v[0, 1], r[-1, 0], r[-1, 1], v[-1, 0], v[-1, 1],
+                         t_tug, t_towed, t_min, span, float(taut), thrust], dtype=float)
 
     # -------------------------------------------------------------- public interface
     @property
@@ -123,26 +133,20 @@ class RigidLinkSimulation:
         """Number of rigid links."""
         return int(self.l.size)
 
-    def initialize(self, t0: float = 0.0, ship: np.ndarray | None = None, setpoint: tuple[float, float] | None = None,
-                   statics: bool | None = None) -> dict[str, float]:
-        """Outputs at the start time ``t0`` [s] (the parabola at rest), or with ``statics``
-        the equilibrium.
+    def _initial_state(self, t0: float, ship: np.ndarray | None, setpoint: tuple[float, float] | None,
+                       statics: bool | None) -> dict[str, float] | None:
+        """The parabola at rest at ``t0`` [s]; with ``statics`` also the equilibrium.
 
-        ``ship`` and ``setpoint`` are accepted for the interface of
-        :class:`towcable_fmu.simulation.Simulation` and not used: the tug is driven by the
-        scene's thrust ramp and heave references, not by a prescribed ship motion.
-
-        With ``statics=True`` the cable's equilibrium between the two fairleads held at
-        their initial positions is solved (:mod:`.statics`) and reported as
+        ``ship`` and ``setpoint`` are not used (see the class). With ``statics=True`` the
+        cable's equilibrium between the two fairleads held at their initial positions is
+        solved (:mod:`.statics`) and reported (instead of the outputs) as
         ``tension.top``, ``tension.towbody``, ``cable.sag`` and ``angle.top`` [rad, between
         the cable at the tug and the downward vertical]; the run itself starts from the
         reference's parabola at rest.
         """
-        if not math.isfinite(t0):
-            raise SceneError("t0", t0, "a finite start time [s]")
-        self.time = float(t0)
+        self.clock[0] = t0
         if not statics:
-            return self.outputs()
+            return None
         start = time.perf_counter()
         lay = self.scene.layout
         w = self.g * self.scene.cable.mass_per_length
@@ -154,109 +158,62 @@ class RigidLinkSimulation:
         return {"tension.top": eq.tension_tug, "tension.towbody": eq.tension_towed, "cable.sag": eq.sag,
                 "angle.top": float(angle_top), "cable.span": lay.span}
 
-    def run(self, duration: float, interval: float | None = None,
-            progress: Callable[[float, float], None] | None = None) -> dict[str, np.ndarray]:
-        """Integrate for ``duration`` [s] and record the outputs every ``interval`` [s].
-
-        Returns
-        -------
-        dict
-            Output name -> array over the samples (including the start), see :data:`SERIES`.
-
-        Raises
-        ------
-        SolverError
-            If the ODE solver fails.
-        """
-        if not (math.isfinite(duration) and duration > 0.0):
-            raise SceneError("duration", duration, "a finite time > 0 s")
-        dt = self.scene.output.interval if interval is None else interval
-        t0 = self.time
-        count = max(1, int(math.ceil(duration / dt - 1e-9)))
-        samples = t0 + np.minimum(np.arange(count + 1) * dt, duration)
+    def _new_solver(self, t_end: float):
         opts = self.scene.solver
-        solver = _METHODS[opts.method](self._rhs, t0, self.y, samples[-1], rtol=opts.rtol, atol=opts.atol,
-                                       max_step=opts.max_step)
-        rows = [self.outputs()]
-        nxt = 1
-        last_report = t0
-        while nxt <= count:
-            message = solver.step()
-            if solver.status == "failed":
-                raise SolverError(f"{opts.method} failed near t = {solver.t:.6g} s: {message}")
-            self._stats["solver.steps"] += 1
-            dense = None
-            while nxt <= count and samples[nxt] <= solver.t:
-                dense = dense or solver.dense_output()
-                y = solver.y if samples[nxt] == solver.t else dense(samples[nxt])
-                rows.append(self._outputs_at(float(samples[nxt]), y))
-                nxt += 1
-            if progress is not None and solver.t - last_report >= 1.0:
-                progress(solver.t, samples[-1])
-                last_report = solver.t
-        self._count(solver)
-        self.time, self.y = float(samples[-1]), solver.y.copy()
-        if progress is not None:
-            progress(self.time, samples[-1])
-        return {name: np.array([row[name] for row in rows]) for name in SERIES}
+        return _METHODS[opts.method](self._rhs, self.time, self.y, t_end, rtol=opts.rtol, atol=opts.atol,
+                                     max_step=opts.max_step)
 
-    def step(self, dt: float, ship: np.ndarray | None = None,
-             setpoint: tuple[float, float] | None = None) -> dict[str, float]:
-        """Advance by ``dt`` [s] (FMU style) and return the outputs at the new time.
+    def _solver_step(self, solver) -> None:
+        """One step of the scipy solver, counted; a SolverError if it fails."""
+        message = solver.step()
+        if solver.status == "failed":
+            raise SolverError(f"{self.scene.solver.method} failed near t = {solver.t:.6g} s: {message}")
+        self.counters[0] += 1
 
-        Each call starts the scene's ODE solver afresh from the current state, so a state
-        restored with :meth:`set_state` continues exactly as the original run did.
-        ``ship`` and ``setpoint`` are not used (see :meth:`initialize`).
+    def _begin_recording(self, samples: np.ndarray) -> None:
+        self._solver = self._new_solver(float(samples[-1]))
 
-        Raises
-        ------
-        SceneError
-            If ``dt`` is not a finite step > 0; nothing is changed.
-        SolverError
-            If the ODE solver fails; the state is then left as it was.
-        """
-        if not (math.isfinite(dt) and dt > 0.0):
-            raise SceneError("dt", dt, "a finite step > 0 s")
-        opts = self.scene.solver
+    def _record(self, block: np.ndarray, rows: np.ndarray, t_land: float) -> int:
+        """Step the run's ODE solver past the samples ``block`` [s], read from its dense output."""
+        solver = self._solver
+        dense = None
+        for k, t in enumerate(block):
+            while t > solver.t:
+                self._solver_step(solver)
+                dense = None
+            dense = dense or solver.dense_output()
+            rows[k] = self._outputs_at(float(t), solver.y if t == solver.t else dense(t))
+        return block.size
+
+    def _end_recording(self) -> None:
+        self._count(self._solver)
+        self.clock[0], self.y = float(self._solver.t), self._solver.y.copy()
+        self._solver = None
+
+    def _failure(self, t: float) -> SolverError:
+        return SolverError(f"{self.scene.solver.method} did not reach t = {t:.6g} s")
+
+    def _advance(self, dt: float, ship: np.ndarray | None, setpoint: tuple[float, float] | None) -> None:
+        """Advance by ``dt`` [s]: each call starts the scene's ODE solver afresh from the
+        current state, so a state restored with :meth:`set_state` continues exactly as the
+        original run did."""
         t_end = self.time + dt
-        solver = _METHODS[opts.method](self._rhs, self.time, self.y, t_end, rtol=opts.rtol, atol=opts.atol,
-                                       max_step=opts.max_step)
+        solver = self._new_solver(t_end)
         while solver.status == "running":
-            message = solver.step()
-            if solver.status == "failed":
-                raise SolverError(f"{opts.method} failed near t = {solver.t:.6g} s: {message}")
-            self._stats["solver.steps"] += 1
+            self._solver_step(solver)
         if not np.all(np.isfinite(solver.y)):
-            raise SolverError(f"{opts.method} produced non-finite values at t = {t_end:.6g} s")
+            raise SolverError(f"{self.scene.solver.method} produced non-finite values at t = {t_end:.6g} s")
         self._count(solver)
-        self.time, self.y = float(t_end), solver.y.copy()
-        return self.outputs()
+        self.clock[0], self.y = float(t_end), solver.y.copy()
 
-    def get_state(self) -> dict[str, Any]:
-        """The state (time [s], angles and rates) and counters as JSON-able data."""
-        return {"time": self.time, "y": self.y.tolist(), "stats": dict(self._stats), "n_links": int(self.l.size)}
-
-    def set_state(self, data: Mapping[str, Any]) -> None:
-        """Restore a state from :meth:`get_state`.
-
-        Raises
-        ------
-        SceneError
-            If the data belongs to a model with another number of links.
-        """
-        if int(data.get("n_links", -1)) != self.l.size:
-            raise SceneError("state.n_links", data.get("n_links"), f"{self.l.size} (the state belongs to another model)")
-        self.time = float(data["time"])
-        self.y = np.asarray(data["y"], dtype=float)
-        self._stats = dict(data["stats"])
+    def _state_arrays(self) -> tuple[np.ndarray, ...]:
+        return self.y, self.clock, self.counters
 
     def _count(self, solver) -> None:
         """Add a finished scipy solver's right-hand-side evaluations and LU factorisations."""
-        self._stats["solver.residual_evaluations"] += int(solver.nfev)
-        self._stats["solver.jacobian_factorisations"] += int(getattr(solver, "nlu", 0))
+        self.counters[1] += int(solver.nfev)
+        self.counters[2] += int(getattr(solver, "nlu", 0))
 
-    def statistics(self) -> dict[str, float]:
-        """Solver counters since construction (:data:`~towcable_fmu.protocol.SOLVER_STATISTICS`:
-        accepted steps, right-hand-side evaluations, LU factorisations of the implicit
-        methods), plus the statics result if solved."""
-        return {**self._stats, **self._statics}
+    def _counters(self) -> np.ndarray:
+        """Accepted steps, right-hand-side evaluations, LU factorisations of the implicit methods."""
+        return self.counters
