@@ -9,8 +9,11 @@ from compiled code: the FMI functions are called through their addresses
 (:func:`fmi_functions`) with the GIL held, so an FMU that runs Python (pythonfmu)
 enters it at once.
 
-Layout of the buffers (``n`` FMUs in the contract's order; ``out_off``/``in_off`` have
-``n + 1`` entries, FMU ``i`` owns the range ``off[i]:off[i + 1]``):
+The loop's arguments travel as four bundles: :class:`Calls` (the FMUs' functions),
+:class:`Buffers` (the values exchanged), :class:`BooleanOutputs` (the Boolean outputs
+recorded) and :class:`Record` (the rows written). Layout of the buffers (``n`` FMUs in
+the contract's order; ``out_off``/``in_off`` have ``n + 1`` entries, FMU ``i`` owns the
+range ``off[i]:off[i + 1]``):
 
 * ``outputs``: every FMU's Real outputs, as last read (``out_vr`` their value references);
 * ``inputs``: every FMU's connected Real inputs (``in_vr``); input ``j`` takes the value
@@ -25,6 +28,8 @@ from __future__ import annotations
 
 import ctypes
 from typing import NamedTuple
+
+import numpy as np
 
 from ..kernel_cache import njit
 
@@ -67,36 +72,75 @@ def fmi_functions(dll: ctypes.CDLL, component: int) -> FmiFunctions:
                         VALUES_PROTOTYPE(address("fmi2GetBoolean")))
 
 
+class Calls(NamedTuple):
+    """Per FMU (contract order): the instance and its functions (:func:`fmi_functions`)."""
+
+    components: np.ndarray  #: (n,) intp: the fmi2Component addresses
+    do_steps: tuple         #: fmi2DoStep of each FMU
+    get_reals: tuple        #: fmi2GetReal of each FMU
+    set_reals: tuple        #: fmi2SetReal of each FMU
+
+
+class Buffers(NamedTuple):
+    """The values exchanged, in the layout of the module docstring."""
+
+    out_vr: np.ndarray       #: uint32 value references of every FMU's Real outputs
+    out_off: np.ndarray      #: (n + 1,) intp: FMU i's outputs are out_off[i]:out_off[i + 1]
+    outputs: np.ndarray      #: the Real outputs as last read
+    in_vr: np.ndarray        #: uint32 value references of every FMU's connected Real inputs
+    in_off: np.ndarray       #: (n + 1,) intp: FMU i's inputs are in_off[i]:in_off[i + 1]
+    in_src: np.ndarray       #: intp: input j takes outputs[in_src[j]]
+    inputs: np.ndarray       #: the Real inputs as last set
+    feedthrough: np.ndarray  #: (n,) bool: FMU i is an algebraic block
+
+
+class BooleanOutputs(NamedTuple):
+    """The Boolean outputs recorded: those of one FMU."""
+
+    get_boolean: object  #: that FMU's fmi2GetBoolean
+    fmu: int             #: its index in the contract order
+    vr: np.ndarray       #: uint32 value references read
+    values: np.ndarray   #: int32 buffer of the values read
+
+
+class Record(NamedTuple):
+    """The rows a run writes."""
+
+    time: np.ndarray      #: (rows,) time [s]
+    outputs: np.ndarray   #: (rows, outputs) every FMU's Real outputs
+    booleans: np.ndarray  #: (rows, booleans) the recorded Boolean outputs
+
+
 @njit(cache=True)
-def feed(i, components, set_reals, in_vr, in_off, in_src, inputs, outputs):
+def feed(i, calls, buffers):
     """Gather FMU ``i``'s inputs from the outputs and set them; the status (0 = nothing to set)."""
-    a, b = in_off[i], in_off[i + 1]
+    buf = buffers
+    a, b = buf.in_off[i], buf.in_off[i + 1]
     if b == a:
         return 0
     for j in range(a, b):
-        inputs[j] = outputs[in_src[j]]
-    return set_reals[i](components[i], in_vr[a:].ctypes.data, b - a, inputs[a:].ctypes.data)
+        buf.inputs[j] = buf.outputs[buf.in_src[j]]
+    return calls.set_reals[i](calls.components[i], buf.in_vr[a:].ctypes.data, b - a, buf.inputs[a:].ctypes.data)
 
 
 @njit(cache=True)
-def read(i, components, get_reals, out_vr, out_off, outputs):
-    """Get FMU ``i``'s Real outputs into ``outputs``; the status."""
-    a, b = out_off[i], out_off[i + 1]
+def read(i, calls, buffers):
+    """Get FMU ``i``'s Real outputs into ``buffers.outputs``; the status."""
+    a, b = buffers.out_off[i], buffers.out_off[i + 1]
     if b == a:
         return 0
-    return get_reals[i](components[i], out_vr[a:].ctypes.data, b - a, outputs[a:].ctypes.data)
+    return calls.get_reals[i](calls.components[i], buffers.out_vr[a:].ctypes.data, b - a,
+                              buffers.outputs[a:].ctypes.data)
 
 
 @njit(cache=True)
-def advance(k_start, k_stop, finish, t0, h, stride, row, components, do_steps, get_reals, set_reals, get_boolean,
-            out_vr, out_off, outputs, in_vr, in_off, in_src, inputs, feedthrough, bool_fmu, bool_vr, booleans,
-            rec_time, rec_outputs, rec_booleans):
+def advance(k_start, k_stop, finish, t0, h, stride, row, calls, buffers, bools, record):
     """Communication steps ``k_start`` to ``k_stop - 1`` (and, if ``finish``, the
     communication point ``k_stop`` without a step: the last row).
 
     Step ``k`` goes from ``t0 + k h`` to ``t0 + (k + 1) h`` [s]. At every communication
     point: feed and read the feedthrough FMUs; if ``k % stride == 0`` record row
-    ``row`` (time, all outputs, FMU ``bool_fmu``'s Boolean outputs); feed the others;
+    ``row`` (time, all outputs, the Boolean outputs of ``bools``); feed the others;
     step all in order; read the others.
 
     Parameters
@@ -107,14 +151,10 @@ def advance(k_start, k_stop, finish, t0, h, stride, row, components, do_steps, g
         Start time and communication step [s].
     stride, row
         Record every ``stride``-th communication point, from row ``row`` on.
-    components, do_steps, get_reals, set_reals
-        Per FMU (contract order): the instance and its functions (:func:`fmi_functions`).
-    get_boolean, bool_fmu, bool_vr, booleans
-        The fmi2GetBoolean of FMU ``bool_fmu``, the value references it reads and their buffer.
-    out_vr, out_off, outputs, in_vr, in_off, in_src, inputs, feedthrough
-        The buffers of the module docstring.
-    rec_time, rec_outputs, rec_booleans
-        The records: time [s], ``outputs`` and ``booleans`` by row.
+    calls, buffers, bools, record
+        The FMUs' functions (:class:`Calls`), the values exchanged (:class:`Buffers`),
+        the Boolean outputs recorded (:class:`BooleanOutputs`) and the rows
+        (:class:`Record`).
 
     Returns
     -------
@@ -123,41 +163,43 @@ def advance(k_start, k_stop, finish, t0, h, stride, row, components, do_steps, g
         call; ``row``: the next free row; ``call``: 0, or the failing call (kind * 100 +
         FMU index, see :data:`CALL_NAMES`) with its fmi2Status ``status``.
     """
-    n = components.size
+    n = calls.components.size
+    outputs, feedthrough = buffers.outputs, buffers.feedthrough
     for k in range(k_start, k_stop + 1 if finish else k_stop):
         t = t0 + k * h
         for i in range(n):
             if feedthrough[i]:
-                status = feed(i, components, set_reals, in_vr, in_off, in_src, inputs, outputs)
+                status = feed(i, calls, buffers)
                 if status > 1:
                     return k, row, SET_REAL * 100 + i, status
-                status = read(i, components, get_reals, out_vr, out_off, outputs)
+                status = read(i, calls, buffers)
                 if status > 1:
                     return k, row, GET_REAL * 100 + i, status
         if k % stride == 0:
-            rec_time[row] = t
-            rec_outputs[row, :] = outputs
-            if booleans.size:
-                status = get_boolean(components[bool_fmu], bool_vr.ctypes.data, bool_vr.size, booleans.ctypes.data)
+            record.time[row] = t
+            record.outputs[row, :] = outputs
+            if bools.values.size:
+                status = bools.get_boolean(calls.components[bools.fmu], bools.vr.ctypes.data, bools.vr.size,
+                                           bools.values.ctypes.data)
                 if status > 1:
-                    return k, row, GET_BOOLEAN * 100 + bool_fmu, status
-                rec_booleans[row, :] = booleans
+                    return k, row, GET_BOOLEAN * 100 + bools.fmu, status
+                record.booleans[row, :] = bools.values
             row += 1
         if k == k_stop:
             break
         for i in range(n):
             if not feedthrough[i]:
-                status = feed(i, components, set_reals, in_vr, in_off, in_src, inputs, outputs)
+                status = feed(i, calls, buffers)
                 if status > 1:
                     return k, row, SET_REAL * 100 + i, status
         dt = (t0 + (k + 1) * h) - t
         for i in range(n):
-            status = do_steps[i](components[i], t, dt, 1)
+            status = calls.do_steps[i](calls.components[i], t, dt, 1)
             if status > 1:
                 return k, row, DO_STEP * 100 + i, status
         for i in range(n):
             if not feedthrough[i]:
-                status = read(i, components, get_reals, out_vr, out_off, outputs)
+                status = read(i, calls, buffers)
                 if status > 1:
                     return k, row, GET_REAL * 100 + i, status
     return k_stop, row, 0, 0

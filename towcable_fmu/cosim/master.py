@@ -126,33 +126,31 @@ class _Exchange:
         self.order = list(order)
         self.index = {name: i for i, name in enumerate(order)}
         functions = [loop.fmi_functions(inst[name].fmu.dll, inst[name].fmu.component) for name in order]
-        self.components = np.array([f.component for f in functions], dtype=np.intp)
-        self.do_steps = tuple(f.do_step for f in functions)
-        self.get_reals = tuple(f.get_real for f in functions)
-        self.set_reals = tuple(f.set_real for f in functions)
-        self.get_boolean = functions[self.index[bool_fmu]].get_boolean
-        self.bool_fmu = self.index[bool_fmu]
-        self.bool_vr = np.ascontiguousarray(inst[bool_fmu].bool_output_vrs, dtype=np.uint32)
-        self.booleans = np.zeros(self.bool_vr.size, dtype=np.int32)
-        self.out_off = np.cumsum([0] + [len(inst[n].real_outputs) for n in order], dtype=np.intp)
-        self.out_vr = np.ascontiguousarray([vr for n in order for vr in inst[n].real_output_vrs], dtype=np.uint32)
-        self.outputs = np.zeros(self.out_vr.size)
+        self.calls = loop.Calls(np.array([f.component for f in functions], dtype=np.intp),
+                                tuple(f.do_step for f in functions), tuple(f.get_real for f in functions),
+                                tuple(f.set_real for f in functions))
+        bool_vr = np.ascontiguousarray(inst[bool_fmu].bool_output_vrs, dtype=np.uint32)
+        self.bools = loop.BooleanOutputs(functions[self.index[bool_fmu]].get_boolean, self.index[bool_fmu], bool_vr,
+                                         np.zeros(bool_vr.size, dtype=np.int32))
+        out_off = np.cumsum([0] + [len(inst[n].real_outputs) for n in order], dtype=np.intp)
+        out_vr = np.ascontiguousarray([vr for n in order for vr in inst[n].real_output_vrs], dtype=np.uint32)
         in_vr, in_src, sizes = [], [], []
         for name in order:
             vrs, sources = _routes(inst, name)
             in_vr += vrs
-            in_src += [self.out_off[self.index[src]] + k for src, k in sources]
+            in_src += [out_off[self.index[src]] + k for src, k in sources]
             sizes.append(len(vrs))
-        self.in_off = np.cumsum([0] + sizes, dtype=np.intp)
-        self.in_vr = np.ascontiguousarray(in_vr, dtype=np.uint32)
-        self.in_src = np.ascontiguousarray(in_src, dtype=np.intp)
-        self.inputs = np.zeros(self.in_vr.size)
-        self.feedthrough = np.array([name in feedthrough for name in order])
+        self.buffers = loop.Buffers(out_vr, out_off, np.zeros(out_vr.size),
+                                    np.ascontiguousarray(in_vr, dtype=np.uint32), np.cumsum([0] + sizes, dtype=np.intp),
+                                    np.ascontiguousarray(in_src, dtype=np.intp), np.zeros(len(in_vr)),
+                                    np.array([name in feedthrough for name in order]))
+        #: every FMU's Real outputs as last read
+        self.outputs = self.buffers.outputs
 
     def outputs_of(self, name: str) -> np.ndarray:
         """FMU ``name``'s Real outputs as last read (a view of :attr:`outputs`, contract order)."""
         i = self.index[name]
-        return self.outputs[self.out_off[i]:self.out_off[i + 1]]
+        return self.outputs[self.buffers.out_off[i]:self.buffers.out_off[i + 1]]
 
     def _status(self, call: int, status: int, mark: Mapping[str, int], what: str) -> None:
         if status > 1:
@@ -166,14 +164,13 @@ class _Exchange:
     def feed(self, target: str) -> None:
         """Copy the connected outputs into the target's inputs and set them (one fmi2SetReal)."""
         i, mark = self.index[target], self._marks()
-        status = loop.feed(i, self.components, self.set_reals, self.in_vr, self.in_off, self.in_src,
-                                 self.inputs, self.outputs)
+        status = loop.feed(i, self.calls, self.buffers)
         self._status(loop.SET_REAL * 100 + i, status, mark, "")
 
     def read(self, name: str) -> np.ndarray:
         """Get FMU ``name``'s Real outputs (one fmi2GetReal); returns :meth:`outputs_of`."""
         i, mark = self.index[name], self._marks()
-        status = loop.read(i, self.components, self.get_reals, self.out_vr, self.out_off, self.outputs)
+        status = loop.read(i, self.calls, self.buffers)
         self._status(loop.GET_REAL * 100 + i, status, mark, "")
         return self.outputs_of(name)
 
@@ -188,11 +185,8 @@ class _Exchange:
             An FMU refused a call; the message names the call and carries the FMU's log.
         """
         mark = self._marks()
-        k, row, call, status = loop.advance(
-            k_start, k_stop, finish, t0, h, stride, row, self.components, self.do_steps, self.get_reals,
-            self.set_reals, self.get_boolean, self.out_vr, self.out_off, self.outputs, self.in_vr, self.in_off,
-            self.in_src, self.inputs, self.feedthrough, self.bool_fmu, self.bool_vr, self.booleans, rec_time,
-            rec_outputs, rec_booleans)
+        k, row, call, status = loop.advance(k_start, k_stop, finish, t0, h, stride, row, self.calls, self.buffers,
+                                            self.bools, loop.Record(rec_time, rec_outputs, rec_booleans))
         if call:
             t = t0 + k * h
             what = f"from t = {t:.6g} s by {t0 + (k + 1) * h - t:.6g} s " if call // 100 == loop.DO_STEP \
@@ -237,8 +231,8 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
     n_rows = n_steps // stride + 1
     rec_time = np.empty(n_rows)
     rec_outputs = np.empty((n_rows, io.outputs.size))  # all columns; picked at the end
-    rec_bool = np.empty((n_rows, io.booleans.size), dtype=np.int32)
-    model_slot = {name: io.out_off[io.index[name]] + inst[name].real_outputs.index("model_wall_time")
+    rec_bool = np.empty((n_rows, io.bools.values.size), dtype=np.int32)
+    model_slot = {name: io.buffers.out_off[io.index[name]] + inst[name].real_outputs.index("model_wall_time")
                   for name in order}
     model_start = {name: float(io.outputs[slot]) for name, slot in model_slot.items()}
     loop_start = time.perf_counter()
@@ -267,8 +261,8 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
     series = {"time": rec_time[:row].copy()}
     for name in order:
         i = io.index[name]
-        columns = dict(zip(inst[name].real_outputs, rec_outputs[:row, io.out_off[i]:io.out_off[i + 1]].T))
-        if i == io.bool_fmu:
+        columns = dict(zip(inst[name].real_outputs, rec_outputs[:row, io.buffers.out_off[i]:io.buffers.out_off[i + 1]].T))
+        if i == io.bools.fmu:
             columns.update(zip(inst[name].bool_outputs, rec_bool[:row].T.astype(float)))
         for var in inst[name].spec.outputs:
             if not var.diagnostic:
