@@ -142,7 +142,7 @@ class Simulation(SimulationDriver):
         return float(self.state.clock[genalpha.CLOCK_TIME])
 
     def _initial_state(self, t0: float, ship: np.ndarray | None, setpoint: tuple[float, float] | None,
-                       statics: bool | None, q0: np.ndarray | None = None) -> dict[str, float]:
+                       statics: bool | None, q0: np.ndarray | None = None) -> None:
         """Lay out the initial shape, solve the statics and set consistent accelerations.
 
         A rigid load with ``held = true`` is held in the statics along the cable's initial
@@ -197,7 +197,6 @@ class Simulation(SimulationDriver):
         if not genalpha.initial_acceleration(self.model, self.options, st, self.workspace, t0, *drive):
             raise SolverError("the initial state has no finite acceleration (singular mass matrix or "
                               "non-finite forces)")
-        return None
 
     def _start_turbulence(self, t0: float) -> None:
         """(Re)start the turbulence series at t0 (same seed: same series)."""
