@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from towcable_fmu.ancf import element
-from towcable_fmu.ancf.axial import axial_force, axial_strains, axial_tangent, slope_derivatives
+from towcable_fmu.ancf.axial import at_length, axial_force, axial_strains, axial_tangent, axial_work
 
 
 def test_shape_functions_interpolate_nodes_and_slopes():
@@ -52,27 +52,25 @@ class AxialElement:
     """One element's axial force with the package's Gauss quadrature."""
 
     def __init__(self, L: float, ea: float, tension_only: bool = False):
-        gx, self.gw = element.gauss_legendre(5)
-        self.d = np.zeros((5, 4))
-        slope_derivatives(element.shape_derivatives(gx, 1.0), L, self.d)
+        gx, gw = element.gauss_legendre(5)
+        self.work = axial_work(element.shape_derivatives(gx, 1.0), gw)
+        at_length(self.work, L)
         self.L, self.ea, self.tension_only = L, ea, tension_only
-        self.lam, self.u = np.zeros(5), np.zeros((5, 3))
 
     def force(self, x):
         f = np.zeros(12)
-        energy = axial_force(x, 0, self.L, self.ea, self.tension_only, self.d, self.gw, self.lam, self.u, f)
+        energy = axial_force(x, 0, self.L, self.ea, self.tension_only, self.work, f)
         return f, energy
 
     def tangent(self, x):
         k = np.zeros((12, 12))
-        axial_tangent(x, 0, self.L, self.ea, self.tension_only, self.d, self.gw, self.lam, self.u, 1.0, k,
-                      np.empty((3, 12)), np.empty(3), np.empty((3, 3)))
+        axial_tangent(x, 0, self.L, self.ea, self.tension_only, self.work, 1.0, k)
         return k
 
     def strain(self, x, xi):
         dn = element.shape_derivatives(np.array([xi]), 1.0)
         out = np.zeros(1)
-        axial_strains(x, 0, self.L, self.d, self.gw, self.lam, self.u, dn, out)
+        axial_strains(x, 0, self.L, self.work, dn, out)
         return out[0]
 
 
@@ -125,7 +123,7 @@ def test_decoupling_bent_unstretched_element_has_no_axial_force():
 
     def arc_length(radius):
         el.force(_arc_element(radius, angle))
-        return float(np.sum(el.gw * el.lam)) * L - L
+        return float(np.sum(el.work.gw * el.work.lam)) * L - L
 
     x = _arc_element(brentq(arc_length, 0.5, 1.5, xtol=1e-14), angle)
     f, energy = el.force(x)
@@ -149,5 +147,5 @@ def test_gauss_arc_length_of_circular_element_converges():
     speed = np.linalg.norm(rp, axis=1)
     exact = np.sum(0.5 * (speed[1:] + speed[:-1]) * np.diff(xi))
     el.force(x)
-    s_gauss = float(np.sum(el.gw * el.lam))
+    s_gauss = float(np.sum(el.work.gw * el.work.lam))
     assert s_gauss == pytest.approx(exact, rel=1e-7)

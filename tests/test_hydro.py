@@ -396,7 +396,7 @@ def test_newton_with_the_assembled_jacobian_converges(scene):
 # These tests call the per-point kernel `towcable_fmu.hydro.cable.point_load` with a
 # WaterModel built here, and compare with W(58) evaluated independently below from the
 # loading functions and C_D(Re) (themselves checked against hand values above).
-from towcable_fmu.hydro.cable import point_load  # noqa: E402
+from towcable_fmu.hydro.cable import Section, point_load  # noqa: E402
 from towcable_fmu.hydro.water import (  # noqa: E402
     CURRENT_LINEAR, CURRENT_NONE, CURRENT_UNIFORM, WaterModel, flow)
 
@@ -417,7 +417,9 @@ def _water(kind=CURRENT_NONE, v0=(0.0, 0.0, 0.0), grad=(0.0, 0.0, 0.0), turb=Non
 
 def _load(w, kind, g_amp, cm=1.0, v=(0.0, 0.0, 0.0), a=(0.0, 0.0, 0.0), t=0.0, cd=0.0):
     """Kernel load per unit length minus the buoyancy rho A g e_z (checked separately)."""
-    f = np.array(point_load(w, kind, D_CAB, AREA, cd, g_amp, cm, t, DEPTH_Z, *SLOPE, *v, *a))
+    section = Section(int(kind), D_CAB, AREA, float(cd), float(g_amp), float(cm))
+    v, a = (tuple(float(x) for x in vec) for vec in (v, a))
+    f = np.array(point_load(w, section, float(t), DEPTH_Z, tuple(float(x) for x in SLOPE), v, a))
     f[2] -= RHO * AREA * G
     return f
 

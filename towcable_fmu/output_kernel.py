@@ -18,7 +18,7 @@ import numpy as np
 from .kernel_cache import njit
 from .ancf.measures import element_tension, point_on_cable, summary
 from .ancf.model import CableModel
-from .contact.cable import surface_summary
+from .contact.cable import Elements, SurfaceSummary, surface_summary
 from .contact.surfaces import SHEAVE, WINCH
 from .hydro.towbody import body_force
 from .kinematics import rotation_matrix
@@ -60,6 +60,17 @@ class OutputScene(NamedTuple):
     payout_radius: float
     #: Nominal winch rotation [rad].
     phi_nom: float
+
+
+class Recording(NamedTuple):
+    """What :func:`advance_recording` records, and how it samples."""
+
+    scene: "OutputScene"   #: what the outputs need of the scene
+    index: np.ndarray      #: (k,) intp: the fields of OUTPUT_FIELDS to record (none: only step)
+    rows: np.ndarray       #: (samples, k) receives them
+    finite: bool           #: stop at the first sample with a non-finite output
+    interpolate: bool      #: read samples inside a step from its interpolant (else land on each)
+    t_land: float          #: with ``interpolate``: the integrator does not step past this [s]
 
 
 class OutputLayout:
@@ -216,13 +227,10 @@ def _rigid_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
 def _contact_values(model: CableModel, q: np.ndarray, v: np.ndarray, ship: np.ndarray, has_winch: bool,
                     sheave_position: np.ndarray, top: float, out: np.ndarray) -> None:
     """Contact forces, departure tensions and angle, wrap and detachment into ``out``."""
-    force = np.zeros((2, 3))
-    span = np.zeros((2, 2))
-    ends = np.zeros((2, 4))
-    lowest = np.zeros(2)
-    energy = np.zeros(2)
-    surface_summary(model.terms.contact, model.el_len, model.el_d, model.el_npts, q, v, ship, force, span,
-                    ends, lowest, energy, np.empty((0, 3)))
+    summary = SurfaceSummary(np.zeros((2, 3)), np.zeros((2, 2)), np.zeros((2, 4)), np.zeros(2), np.zeros(2),
+                             np.empty((0, 3)))
+    surface_summary(model.terms.contact, Elements(model.el_len, model.el_d, model.el_npts), q, v, ship, summary)
+    force, ends, lowest, energy = summary.force, summary.ends, summary.lowest, summary.energy
     out[12] = math.sqrt(force[WINCH, 0] ** 2 + force[WINCH, 1] ** 2 + force[WINCH, 2] ** 2)
     out[13] = math.sqrt(force[SHEAVE, 0] ** 2 + force[SHEAVE, 1] ** 2 + force[SHEAVE, 2] ** 2)
     out[14] = energy[0] + energy[1]
@@ -291,20 +299,19 @@ def _interpolate_state(model: CableModel, st, ws, t: float, drive_t: np.ndarray,
 
 @njit(cache=True)
 def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive_t: np.ndarray,
-                      drive_x: np.ndarray, scene: OutputScene, index: np.ndarray, rows: np.ndarray, finite: bool,
-                      interpolate: bool, t_land: float) -> int:
-    """Advance through the sample times and record the outputs ``index`` of
+                      drive_x: np.ndarray, rec: Recording) -> int:
+    """Advance through the sample times and record the outputs ``rec.index`` of
     :func:`output_values` (the scene's, :class:`OutputLayout`) at each.
 
-    One compiled call for a whole block of samples (no Python between them). ``rows``
+    One compiled call for a whole block of samples (no Python between them). ``rec.rows``
     (len(samples), len(index)) receives the outputs; ``opt``, ``st``, ``ws`` are the
     solver options, state and workspace of :mod:`towcable_fmu.numerics.genalpha`. It is
     the one kernel :class:`~towcable_fmu.simulation.Simulation` steps with: with no
     ``index`` it only steps (no outputs are computed), and one sample at the current
     time reads the outputs of the state.
 
-    Sampling: without ``interpolate`` the steps land on every sample time. With it the
-    integrator keeps its own step size and never passes ``t_land`` [s] (where it lands):
+    Sampling: without ``rec.interpolate`` the steps land on every sample time. With it the
+    integrator keeps its own step size and never passes ``rec.t_land`` [s] (where it lands):
     a sample inside a step reads the state interpolated in that step
     (:func:`_interpolate_state`), so the output interval does not change the steps. The
     state may then end up to one step past the last sample (the next block's drive table
@@ -315,8 +322,9 @@ def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive
     int
         The number of samples reached: ``len(samples)``, or the index of the sample whose
         step failed (the state is then the last accepted step) or, with ``finite``, whose
-        outputs are not finite.
+        outputs are not finite (``rec.finite``).
     """
+    scene, index, rows, finite, interpolate, t_land = rec
     k = 0
     while k < samples.shape[0]:
         t_s = samples[k]

@@ -13,16 +13,16 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 
 from . import drive as drive_poly
-from .ancf import element, initial_shape, measures
-from .ancf.mesh import build_mesh, build_model, held_load_forces, winch_radius
-from .ancf.prescribed import apply_prescribed
+from .ancf import element, measures
+from .ancf.initial_layout import initial_coordinates, layout_from_scene
+from .ancf.mesh import build_mesh, build_model, held_load_forces
 from .ancf.model import CableModel, Mesh
 from .ancf.system import residual
-from .contact.cable import surface_summary
-from .output_kernel import OUTPUT_FIELDS, OutputLayout, OutputScene, advance_recording
+from .compensation_setup import compensation_config, compensation_table
+from .contact.cable import Elements, new_summary, surface_summary
+from .output_kernel import OUTPUT_FIELDS, OutputLayout, OutputScene, Recording, advance_recording
 from .errors import SceneError, SolverError
-from .kinematics import rotation_matrix
-from .rigid_body import ROW_TOW, angular_kinematics, rotation, tow_point_state
+from .rigid_body import angular_kinematics, tow_point_state
 from .hydro.turbulence import TurbulenceSeries
 from .numerics import genalpha
 from .numerics.statics import solve_statics
@@ -39,26 +39,6 @@ _NO_OUTPUTS = np.zeros(0, dtype=np.intp)
 _NO_ROWS = np.empty((1, 0))
 _ALL_OUTPUTS = np.arange(len(OUTPUT_FIELDS), dtype=np.intp)
 _NO_DRIVE = (np.zeros(1), np.zeros((1, 3, 7)))
-
-
-def compensation_config(scene: Scene, theta_nom: float):
-    """The scene's heave-compensation settings as a controllers.SetpointConfig.
-
-    The winch radius (the cable centreline's), phi_nom and the reference point (the
-    sheave centre, or the top of the drum without a sheave) default to the scene's; the
-    nominal sheave angle to ``theta_nom`` (the model's own steady-state departure angle).
-    """
-    from controllers import setpoint_config_from_table
-
-    winch = scene.winch
-    if scene.sheave is not None:
-        reference = list(scene.sheave.position)
-    else:
-        reference = [winch.position[0], winch.position[1], winch.position[2] + winch.radius]
-    table = {"reference_point": reference, "winch_radius": winch_radius(scene), "phi_nom": winch.phi_nom,
-             "theta_nom": theta_nom, "waterline_z": 0.0 if scene.water is None else scene.water.surface_z}
-    table.update(scene.compensation)
-    return setpoint_config_from_table(table, key="compensation")
 
 
 def solver_options(scene: Scene) -> genalpha.SolverOptions:
@@ -95,14 +75,22 @@ class Simulation(SimulationDriver):
         if scene.cable.formulation != "ancf":
             raise SceneError("cable.formulation", scene.cable.formulation, "'ancf' for this class (a nodal-position "
                              "cable runs in towcable_fmu.nodal.simulation.NodalSimulation)")
-        self.scene = scene
-        self.mesh: Mesh = build_mesh(scene)
+        self._keep(scene)  # read here only: afterwards every part has its own data
+        self.mesh: Mesh = build_mesh(scene.cable.segments)
         self.model: CableModel = build_model(scene, self.mesh)
         self.options = solver_options(scene)
         self.motion = motion_source(scene)
+        #: what the initial shape needs of the scene
+        self.start = layout_from_scene(scene)
+        self._statics_settings = scene.statics
+        #: the constant loads with a held rigid load (statics only; None: nothing held)
+        self._held_forces = held_load_forces(scene, self.model) if scene.load is not None and scene.load.held else None
+        self._turbulence_settings = None if scene.water is None else scene.water.turbulence
+        #: the compensation's settings over the scene's geometry (None: the set-point is given)
+        self._compensation_table = None if scene.compensation is None else compensation_table(scene)
         self.compensation = None  # the set-point algorithm, built at initialisation
-        if scene.compensation is not None:
-            compensation_config(scene, 0.0)  # validate the table now, before any computation
+        if self._compensation_table is not None:
+            compensation_config(self._compensation_table, 0.0)  # validate the table now, before any computation
         self.state = genalpha.new_state(self.model.free_idx.size)
         self.workspace = genalpha.new_workspace(self.model)
         self._statics: dict[str, float] = {}
@@ -121,14 +109,14 @@ class Simulation(SimulationDriver):
             xi=_PROFILE_XI, body_mass=-1.0 if scene.towbody is None or rigid else float(scene.towbody.mass),
             has_winch=scene.winch is not None,
             sheave_position=np.array(scene.sheave.position if scene.sheave is not None else [np.nan] * 3, dtype=float),
-            payout_radius=winch_radius(scene) if scene.winch is not None else 0.0,
+            payout_radius=self.start.winch_radius,
             phi_nom=float(scene.winch.phi_nom) if scene.winch is not None else 0.0)
         #: wake oscillators of an enabled [viv] table (None: no vortex-induced vibration)
         self.viv = None
         if scene.viv is not None and scene.viv.enabled:
             from .viv.coupling import WakeCoupling
 
-            self.viv = WakeCoupling(scene, self.mesh.segment_of_element, self.mesh.lengths, self.model.terms.wake.load)
+            self.viv = WakeCoupling(scene.viv, self.mesh, self.model, scene.water.current.velocity, scene.water.density)
 
     # ------------------------------------------------------------------ time
     @property
@@ -159,22 +147,22 @@ class Simulation(SimulationDriver):
         if self.viv is not None:
             self.viv.reset()
         st.phi[:] = 0.0
-        if self.scene.winch is not None:
-            st.phi[0] = self._setpoint[0] if setpoint is not None else self.scene.winch.phi_nom
+        if self.output_scene.has_winch:
+            st.phi[0] = self._setpoint[0] if setpoint is not None else self.output_scene.phi_nom
             self._setpoint = (float(st.phi[0]), self._setpoint[1] if setpoint is not None else 0.0)
-        st.q[:] = self._initial_coordinates(ship0) if q0 is None else self._checked_coordinates(q0, "q0")
+        st.q[:] = (initial_coordinates(self.start, self.mesh, self.model, ship0, st.phi) if q0 is None
+                   else self._checked_coordinates(q0, "q0"))
         st.v[:] = 0.0
         st.a[:] = 0.0
         st.stats[:] = 0
         st.jac[:] = 0.0
         st.jac[genalpha.JAC_ETA] = 1.0
         st.clock[:] = (t0, self.options.h_max, 0.0, 0.0)
-        run_statics = self.scene.statics.enabled if statics is None else statics
-        if run_statics:
-            cfg = self.scene.statics
+        cfg = self._statics_settings
+        if cfg.enabled if statics is None else statics:
             steady = self.model._replace(water=self.model.water._replace(turb=np.zeros((0, 3))))
-            if self.scene.load is not None and self.scene.load.held:  # released at t0 (the run's own loads)
-                steady = steady._replace(f_const=held_load_forces(self.scene, steady))
+            if self._held_forces is not None:  # released at t0 (the run's own loads)
+                steady = steady._replace(f_const=self._held_forces)
             result = solve_statics(steady, st.q, ship0, st.phi, t0, tolerance=cfg.tolerance,
                                    max_iterations=cfg.max_iterations)
             self._statics = {"solver.statics_iterations": result.iterations,
@@ -182,14 +170,14 @@ class Simulation(SimulationDriver):
                              "solver.statics_wall_time": result.wall_time}
             st.q[:] = result.q
         self._start_turbulence(t0)
-        if self.scene.compensation is not None:
+        if self._compensation_table is not None:
             from controllers import SetpointAlgorithm
 
-            theta = self.scene.compensation.get("theta_nom")
+            theta = self._compensation_table.get("theta_nom")
             if theta is None:  # the model's own steady-state departure angle (sheave, or drum)
                 self.workspace.ship[:, :] = ship0
                 theta = self.outputs()["sheave_angle"]
-            self.compensation = SetpointAlgorithm(compensation_config(self.scene, float(theta)))
+            self.compensation = SetpointAlgorithm(compensation_config(self._compensation_table, float(theta)))
             if setpoint is None:
                 sp = self.compensation.compute(ship0, None)
                 self._setpoint = (float(sp.phi_sp), float(sp.phi_sp_rate))
@@ -200,7 +188,7 @@ class Simulation(SimulationDriver):
 
     def _start_turbulence(self, t0: float) -> None:
         """(Re)start the turbulence series at t0 (same seed: same series)."""
-        cfg = self.scene.water.turbulence if self.scene.water is not None else None
+        cfg = self._turbulence_settings
         self.turbulence = None if cfg is None else TurbulenceSeries(cfg, t0)
         self._cover(t0)
 
@@ -255,80 +243,6 @@ class Simulation(SimulationDriver):
         if not np.all(np.isfinite(x)):
             raise SceneError(name, "non-finite values", "finite coordinates and velocities")
         return x
-
-    def _initial_coordinates(self, ship0: np.ndarray) -> np.ndarray:
-        """Rough initial coordinates: the cable's shape, then the load hanging on along its
-        end, or a rigid body at its initial attitude with its tow point on the last node."""
-        x = self._initial_cable_shape(ship0)
-        if self.model.terms.rigid_link.enabled:
-            attitude = np.array(self.scene.towbody.rigid.attitude, dtype=float)
-            cg = x[-6:-3] - rotation(*attitude) @ self.model.terms.rigid_link.body.axes[ROW_TOW]
-            return np.concatenate([x, cg, attitude])
-        if self.scene.load is None:
-            return x
-        end = x[-6:-3]
-        direction = x[-3:] / np.linalg.norm(x[-3:])
-        return np.concatenate([x, end + self.scene.load.length_pi * direction])
-
-    def _initial_cable_shape(self, ship0: np.ndarray) -> np.ndarray:
-        """Wrapped on the winch and over the sheave, draped over the sheave, straight, or sagging."""
-        cable = self.scene.cable
-        m = self.model
-        q = np.zeros(m.free_idx.size)
-        v = np.zeros_like(q)
-        a = np.zeros_like(q)
-        apply_prescribed(m.att_index, m.att_kind, m.att_vec, m.att_radius, ship0, self.state.phi, q, v, a)
-        arc = self.mesh.node_arc
-        if cable.top.type == "winch":
-            return self._wrapped_shape(ship0)
-        if cable.top.type == "free":
-            q[0:3] = cable.top.position if cable.top.position is not None else 0.0
-        top = q[0:3].copy()
-        if self.scene.sheave is not None and cable.initial.shape == "auto":
-            return self._draped_shape(ship0, top)
-        if cable.bottom.type == "free":
-            return initial_shape.straight(top, np.array(cable.initial.direction), arc)
-        bottom = q[6 * (self.mesh.n_nodes - 1): 6 * (self.mesh.n_nodes - 1) + 3].copy()
-        if cable.initial.shape == "straight":  # along the chord, compressed or stretched to fit
-            chord = bottom - top
-            return initial_shape.straight(top, chord, arc, float(np.linalg.norm(chord)) / arc[-1])
-        return initial_shape.sag(top, bottom, np.array(cable.initial.sag_direction), arc)
-
-    def _draped_shape(self, ship0: np.ndarray, top: np.ndarray) -> np.ndarray:
-        """From the top end over the sheave, then along the initial direction (inertial)."""
-        sc = self.scene
-        rot = rotation_matrix(ship0[0, 3], ship0[0, 4], ship0[0, 5])
-        start = rot.T @ (top - ship0[0, :3])
-        radius = sc.sheave.radius + 0.5 * sc.cable.segments[0].diameter
-        departure = rot.T @ np.array(sc.cable.initial.direction)
-        if sc.idlers:  # over the sheave and each idler in turn
-            half_d = 0.5 * sc.cable.segments[0].diameter
-            x = initial_shape.over_pulleys(self.mesh.node_arc, start,
-                                           [np.array(p.position) for p in (sc.sheave, *sc.idlers)],
-                                           [p.radius + half_d for p in (sc.sheave, *sc.idlers)],
-                                           departure).reshape(-1, 2, 3)
-        else:
-            x = initial_shape.draped(self.mesh.node_arc, start, np.array(sc.sheave.position), radius,
-                                     departure).reshape(-1, 2, 3)
-        x[:, 0, :] = x[:, 0, :] @ rot.T + ship0[0, :3]
-        x[:, 1, :] = x[:, 1, :] @ rot.T
-        return x.ravel()
-
-    def _wrapped_shape(self, ship0: np.ndarray) -> np.ndarray:
-        """Cable wound on the drum from phi, over the sheave, then along the initial
-        direction (given in the inertial frame); transformed with the ship's pose."""
-        sc = self.scene
-        half_d = 0.5 * sc.cable.segments[0].diameter
-        rot = rotation_matrix(ship0[0, 3], ship0[0, 4], ship0[0, 5])
-        sheave = sc.sheave
-        x = initial_shape.wrapped(
-            self.mesh.node_arc, np.array(sc.winch.position), sc.winch.radius + half_d, float(self.state.phi[0]),
-            rot.T @ np.array(sc.cable.initial.direction),
-            None if sheave is None else np.array(sheave.position),
-            0.0 if sheave is None else sheave.radius + half_d).reshape(-1, 2, 3)
-        x[:, 0, :] = x[:, 0, :] @ rot.T + ship0[0, :3]
-        x[:, 1, :] = x[:, 1, :] @ rot.T
-        return x.ravel()
 
     def _integrate_to(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> None:
         """Integrate to ``t_end`` [s] with the drive table (the caller rolls back on failure).
@@ -476,13 +390,13 @@ class Simulation(SimulationDriver):
         """All fields of :data:`~towcable_fmu.output_kernel.OUTPUT_FIELDS` (NaN: not in the scene)."""
         rows = np.empty((1, len(OUTPUT_FIELDS)))
         advance_recording(self.model, self.options, self.state, self.workspace, np.array([self.time]), *_NO_DRIVE,
-                          self.output_scene, _ALL_OUTPUTS, rows, False, False, self.time)
+                          Recording(self.output_scene, _ALL_OUTPUTS, rows, False, False, self.time))
         return rows[0]
 
     def _step_to(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> int:
         """genalpha.advance to t_end (through advance_recording, recording nothing); the solver status."""
         reached = advance_recording(self.model, self.options, self.state, self.workspace, np.array([t_end]),
-                                    *drive, self.output_scene, _NO_OUTPUTS, _NO_ROWS, False, False, t_end)
+                                    *drive, Recording(self.output_scene, _NO_OUTPUTS, _NO_ROWS, False, False, t_end))
         return genalpha.OK if reached == 1 else genalpha.FAILED_MIN_STEP
 
     def _load_outputs(self) -> dict[str, float]:
@@ -490,12 +404,11 @@ class Simulation(SimulationDriver):
         load_term, st = self.model.terms.rigid_load, self.state
         i = load_term.index
         p = i - 6
-        load = self.scene.load
-        kappa = load.length_pg / load.length_pi
         # the load's own equations summed over P and I: the link forces cancel, what remains
         # is the cable's pull = sum of (mass matrix x acceleration) minus the load's weight
+        # (the load's mass m_L is the entry m_II of its mass matrix, W(138))
         pull = ((load_term.mass[0] + load_term.mass[1]) * st.a[p:p + 3] + (load_term.mass[1] + load_term.mass[2]) * st.a[i:i + 3])
-        pull[2] += load.mass * self.scene.environment.gravity * ((1.0 - kappa) + kappa)
+        pull[2] += load_term.mass[2] * self.model.gravity
         d = st.q[i:i + 3] - st.q[p:p + 3]
         vp, vi = st.v[p:p + 3], st.v[i:i + 3]
         kinetic = 0.5 * (load_term.mass[0] * vp @ vp + 2.0 * load_term.mass[1] * vp @ vi + load_term.mass[2] * vi @ vi)
@@ -588,16 +501,11 @@ class Simulation(SimulationDriver):
             angle [rad], force per unit length [N/m]).
         """
         m = self.model
-        force = np.zeros((2, 3))
-        span = np.zeros((2, 2))
-        ends = np.zeros((2, 4))
-        lowest = np.zeros(2)
-        energy = np.zeros(2)
-        dist = np.zeros((4 * int(m.el_npts.sum()), 3))
-        rows = surface_summary(m.terms.contact, m.el_len, m.el_d, m.el_npts, self.state.q, self.state.v,
-                               self.workspace.ship, force, span, ends, lowest, energy, dist)
-        return {"force": force, "span": span, "ends": ends, "lowest": lowest, "energy": energy,
-                "distribution": dist[:rows]}
+        out = new_summary(4 * int(m.el_npts.sum()))
+        rows = surface_summary(m.terms.contact, Elements(m.el_len, m.el_d, m.el_npts), self.state.q, self.state.v,
+                               self.workspace.ship, out)
+        return {"force": out.force, "span": out.span, "ends": out.ends, "lowest": out.lowest, "energy": out.energy,
+                "distribution": out.dist[:rows]}
 
     def _counters(self) -> np.ndarray:
         return self.state.stats
@@ -656,7 +564,8 @@ class Simulation(SimulationDriver):
         self._cover(float(marks.max()))
         if not in_python:
             reached = advance_recording(self.model, self.options, self.state, self.workspace, block, *drive,
-                                        self.output_scene, self.layout.index, rows, True, interpolate, t_land)
+                                        Recording(self.output_scene, self.layout.index, rows, True, interpolate,
+                                                  t_land))
         else:
             reached = 0
             while reached < block.size and self._integrate(block[reached], drive) == genalpha.OK:

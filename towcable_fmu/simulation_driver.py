@@ -62,8 +62,8 @@ def checked_step(dt: float) -> float:
 class SimulationDriver:
     """The common part of a simulation (SI units throughout).
 
-    A subclass sets ``scene`` and ``names`` (its outputs, ``time`` excluded) in its
-    constructor and implements:
+    A subclass calls :meth:`_keep` with its scene and sets ``names`` (its outputs, ``time``
+    excluded) in its constructor and implements:
 
     * ``time`` (property): the current time [s];
     * ``_initial_state(t0, ship, setpoint, statics, **start)``: the state at ``t0`` (inputs
@@ -93,8 +93,11 @@ class SimulationDriver:
     #: Whether :meth:`step` needs the ship state (a model driven by the ship's motion).
     NEEDS_SHIP = True
 
+    #: The scene the simulation was built from (kept only to name it: title, animation).
     scene: Any
     names: tuple[str, ...]
+    #: The scene's output interval [s], the default of :meth:`run`.
+    default_interval: float
     _initialized: bool = False
     #: The statics' figures of the last initialisation (``solver.statics_*``).
     _statics: dict[str, float]
@@ -105,6 +108,11 @@ class SimulationDriver:
                    overrides: Mapping[str, Any] | Iterable[tuple[str, Any]] = ()) -> "SimulationDriver":
         """Load a built-in scene by name, or a scene file, with dotted-key overrides."""
         return cls(load_scene(name_or_path, overrides))
+
+    def _keep(self, scene: Any) -> None:
+        """Keep ``scene`` (its name and title) and what the driver itself needs of it."""
+        self.scene = scene
+        self.default_interval = float(scene.output.interval)
 
     # ----------------------------------------------------------------- outputs
     @property
@@ -248,7 +256,7 @@ class SimulationDriver:
             If a step fails or an output is not finite; the state is then that of the
             last accepted step.
         """
-        dt = output_interval(duration, interval, self.scene.output.interval)
+        dt = output_interval(duration, interval, self.default_interval)
         if not self._initialized:
             self.initialize()
         t0 = self.time

@@ -24,7 +24,7 @@ from .hydro import cable as cable_hydro
 from .kinematics import rotation_derivatives, rotation_matrix, ship_point_kinematics
 from .numerics import genalpha
 from .numerics.banded import band_lu, band_positive_pivots, band_solve
-from .output_kernel import advance_recording, output_values
+from .output_kernel import Recording, advance_recording, output_values
 from .parallel_compile import Job
 from .rigid_body import tow_point_state
 from .simulation import _ALL_OUTPUTS, _NO_DRIVE, Simulation
@@ -42,21 +42,23 @@ def _contact_state() -> tuple:
     """The arguments every contact kernel starts with: the contact data, the elements and the state."""
     s = _reference()
     m, st = s.model, s.state
-    return m.terms.contact, m.el_len, m.el_d, m.el_npts, st.q, st.v, s.workspace.ship
+    return m.terms.contact, cable_contact.Elements(m.el_len, m.el_d, m.el_npts), st.q, st.v
 
 
 def _contact_residual() -> tuple:
-    return *_contact_state(), np.intp(0), np.intp(1), _reference().workspace.r
+    return *_contact_state(), _reference().workspace.ship, np.intp(0), np.intp(1), _reference().workspace.r
 
 
 def _contact_jacobian() -> tuple:
-    m = _reference().model
-    return *_contact_state(), m.free_idx, m.kl, m.ku, 0.0, 1.0, _reference().workspace.ab
+    c, cable, q, v = _contact_state()
+    ship = _reference().workspace.ship
+    frame = cable_contact.Frame(*rotation_derivatives(ship)[:2], ship)
+    work = cable_contact.new_scratch(c, cable)
+    return c, cable, q, v, frame, np.intp(0), 0.0, 1.0, work, np.empty((12, 12))
 
 
 def _surface_summary() -> tuple:
-    return (*_contact_state(), np.zeros((2, 3)), np.zeros((2, 2)), np.zeros((2, 4)), np.zeros(2), np.zeros(2),
-            np.empty((0, 3)))
+    return *_contact_state(), _reference().workspace.ship, cable_contact.new_summary()
 
 
 def _hydro_residual() -> tuple:
@@ -103,8 +105,8 @@ def _advance() -> tuple:
 
 def _advance_recording() -> tuple:
     s = _reference()
-    return (s.model, s.options, s.state, s.workspace, np.zeros(1), *_NO_DRIVE, s.output_scene,
-            _ALL_OUTPUTS, np.zeros((1, _ALL_OUTPUTS.size)), True, True, 1.0)
+    return (s.model, s.options, s.state, s.workspace, np.zeros(1), *_NO_DRIVE,
+            Recording(s.output_scene, _ALL_OUTPUTS, np.zeros((1, _ALL_OUTPUTS.size)), True, True, 1.0))
 
 
 def _band(with_rhs: bool) -> tuple:
@@ -139,14 +141,13 @@ def kernel_jobs() -> list[Job]:
         Job("rigid_body.tow_point_state", tow_point_state, _tow_point_state, 1.1),
         Job("contact.add_residual", cable_contact.add_residual, _contact_residual, 3.7,
             ("kinematics.rotation_derivatives",)),
-        Job("ancf.rigid_link_rows", rigid_link._rows, _link_rows, 3.2, ("rigid_body.tow_point_state",)),
+        Job("ancf.rigid_link_rows", rigid_link.link_rows, _link_rows, 3.2, ("rigid_body.tow_point_state",)),
         Job("ancf.residual", residual, _residual, 8.1,
             ("contact.add_residual", "ancf.rigid_link_rows", "hydro.add_residual")),
-        Job("contact.add_jacobian", cable_contact.add_jacobian, _contact_jacobian, 3.1,
-            ("kinematics.rotation_derivatives",)),
+        Job("contact.element_jacobian", cable_contact.element_jacobian, _contact_jacobian, 3.1),
         Job("hydro.add_jacobian", cable_hydro.add_jacobian, _hydro_jacobian, 1.8),
         Job("ancf.iteration_matrix", iteration_matrix, _iteration_matrix, 8.0,
-            ("contact.add_jacobian", "hydro.add_jacobian", "ancf.rigid_link_rows")),
+            ("contact.element_jacobian", "hydro.add_jacobian", "ancf.rigid_link_rows")),
         Job("contact.surface_summary", cable_contact.surface_summary, _surface_summary, 2.8,
             ("kinematics.rotation_derivatives",)),
         Job("ancf.band_lu", band_lu, lambda: _band(False), 0.3),

@@ -20,6 +20,7 @@ coordinate vector ``x`` starting at index ``base``.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -48,6 +49,36 @@ def slope_derivatives(gauss_dn: np.ndarray, length: float, d: np.ndarray) -> Non
         d[g, 3] = gauss_dn[g, 3]
 
 
+class AxialWork(NamedTuple):
+    """The Gauss quadrature of the axial kernels and their scratch arrays (ng points).
+
+    ``d`` holds the element whose length was last given to :func:`at_length`.
+    """
+
+    dn: np.ndarray      #: (ng, 4) dn_i/dxi of the normalised Hermite functions at the points
+    gw: np.ndarray      #: (ng,) Gauss weights on [0, 1]
+    d: np.ndarray       #: (ng, 4) dN_i/dp at the points (:func:`slope_derivatives`)
+    lam: np.ndarray     #: (ng,) slope norms |r_p|
+    u: np.ndarray       #: (ng, 3) unit tangents
+    grad: np.ndarray    #: (3, 12) gradients of (a0, s, a1), scratch of :func:`axial_tangent`
+    first: np.ndarray   #: (3,) first derivatives of U/EA, scratch
+    hess: np.ndarray    #: (3, 3) second derivatives of U/EA, scratch
+
+
+@njit(cache=True, inline="always")
+def axial_work(gauss_dn: np.ndarray, gauss_w: np.ndarray) -> AxialWork:
+    """Work arrays for the quadrature ``gauss_dn`` (ng, 4), ``gauss_w`` (ng,)."""
+    ng = gauss_w.shape[0]
+    return AxialWork(gauss_dn, gauss_w, np.empty((ng, 4)), np.empty(ng), np.empty((ng, 3)), np.empty((3, 12)),
+                     np.empty(3), np.empty((3, 3)))
+
+
+@njit(cache=True, inline="always")
+def at_length(work: AxialWork, length: float) -> None:
+    """Set ``work.d`` for an element of length ``length`` [m]."""
+    slope_derivatives(work.dn, length, work.d)
+
+
 @njit(cache=True, inline="always")
 def _kinematics(x, base, d, length, gw, lam, u):
     """Slope norms at the points and the three decoupled coordinates (a0, s, a1)."""
@@ -72,8 +103,8 @@ def _kinematics(x, base, d, length, gw, lam, u):
 
 
 @njit(cache=True, inline="always")
-def axial_force(x: np.ndarray, base: int, length: float, ea: float, tension_only: bool, d: np.ndarray,
-                gw: np.ndarray, lam: np.ndarray, u: np.ndarray, f: np.ndarray) -> float:
+def axial_force(x: np.ndarray, base: int, length: float, ea: float, tension_only: bool, work: AxialWork,
+                f: np.ndarray) -> float:
     """Generalised longitudinal elastic force W(46) of one element, added to ``f``.
 
     Parameters
@@ -84,12 +115,8 @@ def axial_force(x: np.ndarray, base: int, length: float, ea: float, tension_only
         Unstretched length L [m] and axial stiffness EA [N].
     tension_only
         If true, compressive strain carries no force (slack cable).
-    d
-        dN/dp at the Gauss points, shape (ng, 4) (see :func:`slope_derivatives`).
-    gw
-        Gauss weights on [0, 1], shape (ng,).
-    lam, u
-        Scratch, shapes (ng,) and (ng, 3).
+    work
+        The quadrature, set for this element's length (:func:`at_length`), and scratch.
     f
         Output force, shape (12,) [N, N m]: the force is ADDED.
 
@@ -98,7 +125,8 @@ def axial_force(x: np.ndarray, base: int, length: float, ea: float, tension_only
     float
         Strain energy U of the element [J].
     """
-    a0, s, a1 = _kinematics(x, base, d, length, gw, lam, u)
+    d, gw, u = work.d, work.gw, work.u
+    a0, s, a1 = _kinematics(x, base, d, length, gw, work.lam, u)
     ca = 0.0
     cs = 0.0
     c1 = 0.0
@@ -132,13 +160,11 @@ def axial_force(x: np.ndarray, base: int, length: float, ea: float, tension_only
 
 
 @njit(cache=True)
-def axial_tangent(x: np.ndarray, base: int, length: float, ea: float, tension_only: bool, d: np.ndarray,
-                  gw: np.ndarray, lam: np.ndarray, u: np.ndarray, scale: float, kmat: np.ndarray,
-                  grad: np.ndarray, first: np.ndarray, hess: np.ndarray) -> None:
-    """Tangent stiffness dQ_l/dx of :func:`axial_force`, times ``scale``, added to ``kmat`` (12, 12).
-
-    ``grad`` (3, 12), ``first`` (3,) and ``hess`` (3, 3) are scratch arrays.
-    """
+def axial_tangent(x: np.ndarray, base: int, length: float, ea: float, tension_only: bool, work: AxialWork,
+                  scale: float, kmat: np.ndarray) -> None:
+    """Tangent stiffness dQ_l/dx of :func:`axial_force`, times ``scale``, added to ``kmat`` (12, 12)
+    (arguments as :func:`axial_force`)."""
+    d, gw, lam, u, grad, first, hess = work.d, work.gw, work.lam, work.u, work.grad, work.first, work.hess
     a0, s, a1 = _kinematics(x, base, d, length, gw, lam, u)
     ng = d.shape[0]
     # gradients of the decoupled coordinates (a0, s, a1) with respect to x
@@ -198,18 +224,20 @@ def axial_tangent(x: np.ndarray, base: int, length: float, ea: float, tension_on
 
 
 @njit(cache=True)
-def axial_strains(x: np.ndarray, base: int, length: float, d: np.ndarray, gw: np.ndarray, lam: np.ndarray,
-                  u: np.ndarray, dn_at: np.ndarray, out: np.ndarray) -> None:
+def axial_strains(x: np.ndarray, base: int, length: float, work: AxialWork, dn_at: np.ndarray,
+                  out: np.ndarray) -> None:
     """Decoupled Green strain W(45) at points of the element.
 
     Parameters
     ----------
+    x, base, length, work
+        As :func:`axial_force`.
     dn_at
         dn_i/dxi of the normalised Hermite functions at the points, shape (k, 4).
     out
         Output strains eps [-], shape (k,).
     """
-    a0, s, a1 = _kinematics(x, base, d, length, gw, lam, u)
+    a0, s, a1 = _kinematics(x, base, work.d, length, work.gw, work.lam, work.u)
     for k in range(dn_at.shape[0]):
         ld = dn_at[k, 1] * a0 + dn_at[k, 2] / length * s + dn_at[k, 3] * a1
         out[k] = 0.5 * (ld * ld - 1.0)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..kernel_cache import njit
-from .axial import axial_strains, slope_derivatives
+from .axial import at_length, axial_strains, axial_work
 from .model import CableModel
 from .system import residual_span
 
@@ -38,10 +38,7 @@ def tension_profile(model: CableModel, q: np.ndarray, xi: np.ndarray) -> np.ndar
         Tension [N] (negative in compression; zero in compression for tension-only segments).
     """
     ne = model.el_len.shape[0]
-    ng = model.gauss_w.shape[0]
-    d = np.empty((ng, 4))
-    lam = np.empty(ng)
-    u = np.empty((ng, 3))
+    work = axial_work(model.gauss_dn, model.gauss_w)
     nk = xi.shape[0]
     dn = np.empty((nk, 4))
     for k in range(nk):
@@ -54,8 +51,8 @@ def tension_profile(model: CableModel, q: np.ndarray, xi: np.ndarray) -> np.ndar
     out = np.empty((ne, nk))
     for e in range(ne):
         length = model.el_len[e]
-        slope_derivatives(model.gauss_dn, length, d)
-        axial_strains(q, 6 * e, length, d, model.gauss_w, lam, u, dn, eps)
+        at_length(work, length)
+        axial_strains(q, 6 * e, length, work, dn, eps)
         for k in range(nk):
             ek = eps[k]
             if model.el_tension_only[e] and ek < 0.0:
@@ -129,9 +126,7 @@ def summary(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: f
         out[1] = np.sqrt(r[last] ** 2 + r[last + 1] ** 2 + r[last + 2] ** 2)
     ng = model.gauss_w.shape[0]
     nk = xi.shape[0]
-    d = np.empty((ng, 4))
-    lam = np.empty(ng)
-    u = np.empty((ng, 3))
+    work = axial_work(model.gauss_dn, model.gauss_w)
     dn = np.empty((nk + ng, 4))  # rows: the output points xi, then the Gauss points
     for k in range(nk):
         x = xi[k]
@@ -147,8 +142,8 @@ def summary(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: f
     for e in range(ne):
         length = model.el_len[e]
         ea = model.el_ea[e]
-        slope_derivatives(model.gauss_dn, length, d)
-        axial_strains(q, 6 * e, length, d, model.gauss_w, lam, u, dn, eps)
+        at_length(work, length)
+        axial_strains(q, 6 * e, length, work, dn, eps)
         for k in range(nk + ng):
             ek = eps[k]
             if model.el_tension_only[e] and ek < 0.0:
@@ -181,11 +176,8 @@ def point_on_cable(model: CableModel, q: np.ndarray, e: int, xi: float) -> np.nd
         x, y, z, u_x, u_y, u_z, tension.
     """
     length = model.el_len[e]
-    ng = model.gauss_w.shape[0]
-    d = np.empty((ng, 4))
-    lam = np.empty(ng)
-    u = np.empty((ng, 3))
-    slope_derivatives(model.gauss_dn, length, d)
+    work = axial_work(model.gauss_dn, model.gauss_w)
+    at_length(work, length)
     dn = np.empty((1, 4))
     dn[0, 0] = -6.0 * xi + 6.0 * xi * xi
     dn[0, 1] = 1.0 - 4.0 * xi + 3.0 * xi * xi
@@ -193,7 +185,7 @@ def point_on_cable(model: CableModel, q: np.ndarray, e: int, xi: float) -> np.nd
     dn[0, 3] = 3.0 * xi * xi - 2.0 * xi
     eps = np.empty(1)
     base = 6 * e
-    axial_strains(q, base, length, d, model.gauss_w, lam, u, dn, eps)
+    axial_strains(q, base, length, work, dn, eps)
     if model.el_tension_only[e] and eps[0] < 0.0:
         eps[0] = 0.0
     n = (1.0 - 3.0 * xi**2 + 2.0 * xi**3, length * (xi - 2.0 * xi**2 + xi**3), 3.0 * xi**2 - 2.0 * xi**3,
@@ -220,12 +212,10 @@ def element_tension(model: CableModel, q: np.ndarray, e: int) -> float:
     """
     length = model.el_len[e]
     ng = model.gauss_w.shape[0]
-    d = np.empty((ng, 4))
-    lam = np.empty(ng)
-    u = np.empty((ng, 3))
-    slope_derivatives(model.gauss_dn, length, d)
+    work = axial_work(model.gauss_dn, model.gauss_w)
+    at_length(work, length)
     eps = np.empty(ng)
-    axial_strains(q, 6 * e, length, d, model.gauss_w, lam, u, model.gauss_dn, eps)
+    axial_strains(q, 6 * e, length, work, model.gauss_dn, eps)
     total = 0.0
     for g in range(ng):
         ek = eps[g]

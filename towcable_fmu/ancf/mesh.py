@@ -7,11 +7,13 @@ compiled kernels only do per-step work.
 
 from __future__ import annotations
 
+from typing import Sequence
+
 import numpy as np
 
 from ..hydro.scene_data import build_water
 from ..rigid_body import NDOF as RIGID_NDOF
-from ..scene.model import End, Scene
+from ..scene.model import End, Scene, Segment
 from . import element
 from .forces import build_terms
 from .forces.rigid_link import RIGID_LINK_FACTOR
@@ -22,10 +24,11 @@ from .prescribed import FIXED_POINT, FIXED_SLOPE, SHIP_POINT, SHIP_SLOPE, WINCH_
 AXIAL_GAUSS_POINTS = 5
 
 
-def build_mesh(scene: Scene) -> Mesh:
-    """Equal elements within each segment, segments from the top end down."""
+def build_mesh(segments: Sequence[Segment]) -> Mesh:
+    """Equal elements within each segment (``cable.segments``: length [m], elements), segments
+    from the top end down."""
     lengths, seg = [], []
-    for i, s in enumerate(scene.cable.segments):
+    for i, s in enumerate(segments):
         lengths += [s.length / s.elements] * s.elements
         seg += [i] * s.elements
     lengths_arr = np.array(lengths)

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..kernel_cache import njit
 from ..numerics.banded import band_add_block
-from .axial import axial_force, axial_tangent, slope_derivatives
+from .axial import at_length, axial_force, axial_tangent, axial_work
 from .forces import add_residuals, add_tangents
 from .model import CableModel, Motion
 
@@ -75,10 +75,7 @@ def residual_span(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     at the last element. Arguments as :func:`residual`; returns the axial strain energy
     of the span [J].
     """
-    ng = model.gauss_w.shape[0]
-    d = np.empty((ng, 4))
-    lam = np.empty(ng)
-    u = np.empty((ng, 3))
+    work = axial_work(model.gauss_dn, model.gauss_w)
     fe = np.empty(12)
     for i in range(out.shape[0]):
         out[i] = -model.f_const[i]
@@ -87,10 +84,9 @@ def residual_span(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
         base = 6 * e
         _linear_forces(model.el_mass, model.el_damp, model.el_bend, e, q, v, a, base, out)
         length = model.el_len[e]
-        slope_derivatives(model.gauss_dn, length, d)
+        at_length(work, length)
         fe[:] = 0.0
-        energy += axial_force(q, base, length, model.el_ea[e], model.el_tension_only[e],
-                              d, model.gauss_w, lam, u, fe)
+        energy += axial_force(q, base, length, model.el_ea[e], model.el_tension_only[e], work, fe)
         for i in range(12):
             out[base + i] += fe[i]
     for n in range(first, stop + 1):
@@ -120,14 +116,8 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
     """
     ab[:, :] = 0.0
     ne = model.el_len.shape[0]
-    ng = model.gauss_w.shape[0]
-    d = np.empty((ng, 4))
-    lam = np.empty(ng)
-    u = np.empty((ng, 3))
+    work = axial_work(model.gauss_dn, model.gauss_w)
     ke = np.empty((12, 12))
-    grad = np.empty((3, 12))
-    first = np.empty(3)
-    hess = np.empty((3, 3))
     for e in range(ne):
         base = 6 * e
         ke[:, :] = 0.0
@@ -137,9 +127,8 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
                 for c in range(3):
                     ke[3 * i + c, 3 * j + c] = val
         length = model.el_len[e]
-        slope_derivatives(model.gauss_dn, length, d)
-        axial_tangent(q, base, length, model.el_ea[e], model.el_tension_only[e],
-                      d, model.gauss_w, lam, u, cq, ke, grad, first, hess)
+        at_length(work, length)
+        axial_tangent(q, base, length, model.el_ea[e], model.el_tension_only[e], work, cq, ke)
         band_add_block(ab, model.kl, model.ku, model.free_idx, base, ke)
     off = model.kl + model.ku
     nn = model.node_mass.shape[0]

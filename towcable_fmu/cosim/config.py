@@ -87,7 +87,7 @@ def compensation_geometry(scene, config: CosimConfig) -> dict[str, Any]:
     """Algorithm, winch radius, nominal winch rotation and reference point for HeaveCompensation.
 
     The same settings the Simulation uses for its own runs
-    (:func:`towcable_fmu.simulation.compensation_config`: the cable centreline's winch
+    (:mod:`towcable_fmu.compensation_setup`: the cable centreline's winch
     radius, the scene's phi_nom, the sheave centre or the top of the drum), unless
     ``config`` gives a value. ``theta_nom`` is resolved later (the static angle at t0)
     unless the scene's ``[compensation]`` gives it.
@@ -98,7 +98,7 @@ def compensation_geometry(scene, config: CosimConfig) -> dict[str, Any]:
         A compensation other than 'none' for a scene without a winch.
     """
     from ..errors import SceneError
-    from ..simulation import compensation_config
+    from ..compensation_setup import compensation_config, compensation_table
 
     # a rigid-link (tug-tow) scene has no [compensation], [winch], [sheave] or [motion]
     table = dict(getattr(scene, "compensation", None) or {})
@@ -113,7 +113,7 @@ def compensation_geometry(scene, config: CosimConfig) -> dict[str, Any]:
                 "reference_point": (0.0, 0.0, 0.0), "has_sheave": sheave is not None,
                 "source": {**source, "geometry": "unused (no winch)"}}
     table["algorithm"] = algorithm
-    cfg = compensation_config(dataclasses.replace(scene, compensation=table), float(table.get("theta_nom", 0.0)))
+    cfg = compensation_config({**compensation_table(scene), **table}, float(table.get("theta_nom", 0.0)))
     geometry = {"winch_radius": cfg.winch_radius, "phi_nom": cfg.phi_nom, "reference_point": cfg.reference_point}
     for key in geometry:
         given = getattr(config, key)

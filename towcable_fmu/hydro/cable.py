@@ -94,12 +94,32 @@ def drag(rho: float, mu: float, kind: int, d: float, cd_fixed: float, vx: float,
     return fx, fy, fz
 
 
+class Section(NamedTuple):
+    """The hydrodynamic properties of one cable element's cross-section."""
+
+    kind: int        #: loading functions (loading.BARE / FAIRED)
+    d: float         #: diameter [m]
+    area: float      #: pi d^2 / 4 [m^2]
+    cd: float        #: constant C_D, or 0 for C_D(Re)
+    g_amp: float     #: drag amplification G
+    cm: float        #: added mass coefficient C_m
+
+
 @njit(cache=True, inline="always")
-def point_load(w: WaterModel, kind: int, d: float, area: float, cd: float, g_amp: float, cm: float, t: float,
-               rz: float, px: float, py: float, pz: float, vx: float, vy: float, vz: float,
-               ax: float, ay: float, az: float) -> tuple:
-    """Hydrodynamic load per unit length [N/m] at a submerged point of height ``rz``, slope
-    ``p``, velocity ``v`` and acceleration ``a`` (pass a = 0 to leave out the added mass)."""
+def element_section(hy: CableHydro, e: int) -> Section:
+    """Element ``e``'s cross-section."""
+    return Section(hy.el_kind[e], hy.el_d[e], hy.el_area[e], hy.el_cd[e], hy.el_g[e], hy.el_cm[e])
+
+
+@njit(cache=True, inline="always")
+def point_load(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v: tuple, a: tuple) -> tuple:
+    """Hydrodynamic load per unit length [N/m] at a submerged point of height ``rz`` [m],
+    slope ``p`` (3-tuple, any length), velocity ``v`` [m/s] and acceleration ``a`` [m/s^2]
+    (3-tuples; pass a = 0 to leave out the added mass) at time ``t`` [s]."""
+    kind, d, area, cd, g_amp, cm = section
+    px, py, pz = p
+    vx, vy, vz = v
+    ax, ay, az = a
     lp = max(math.sqrt(px * px + py * py + pz * pz), _TINY)
     ux = px / lp
     uy = py / lp
@@ -167,17 +187,15 @@ def add_residual(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
         if _is_dry(w, q, base, length):
             continue
         count = _quadrature(w, q, base, length, hy.el_npts[e], xi, wt, g, cross)
-        kind, d, area, cd, gamp, cm = hy.el_kind[e], hy.el_d[e], hy.el_area[e], hy.el_cd[e], hy.el_g[e], hy.el_cm[e]
+        section = element_section(hy, e)
         for p in range(count):
             wp = wt[p]
             if wp == 0.0:
                 continue
             n0, n1, n2, n3, d0, d1, d2, d3 = hermite(xi[p], length)
-            rx, ry, rz = interpolate(q, base, n0, n1, n2, n3)
-            px, py, pz = interpolate(q, base, d0, d1, d2, d3)
-            vx, vy, vz = interpolate(v, base, n0, n1, n2, n3)
-            ax, ay, az = interpolate(a, base, n0, n1, n2, n3)
-            fx, fy, fz = point_load(w, kind, d, area, cd, gamp, cm, t, rz, px, py, pz, vx, vy, vz, ax, ay, az)
+            rz = interpolate(q, base, n0, n1, n2, n3)[2]
+            fx, fy, fz = point_load(w, section, t, rz, interpolate(q, base, d0, d1, d2, d3),
+                                    interpolate(v, base, n0, n1, n2, n3), interpolate(a, base, n0, n1, n2, n3))
             evaluations += 1
             for i, ni in enumerate((n0, n1, n2, n3)):
                 k = wp * ni
@@ -212,8 +230,8 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
     cross = np.empty(m, dtype=np.int64)
     fpt = np.zeros((m, 3))
     count = _quadrature(w, q, base, length, npts, xi, wt, g, cross)
-    kind, d, area, cd, gamp, cm = hy.el_kind[e], hy.el_d[e], hy.el_area[e], hy.el_cd[e], hy.el_g[e], hy.el_cm[e]
-    rho_a_cm = w.density * area * cm
+    section = element_section(hy, e)
+    rho_a_cm = w.density * section.area * section.cm
     jac = np.zeros((3, 7))  # columns: d/dv (3), d/dp (3), d/dz (zero unless the current varies with depth)
     depth_varies = w.current_kind == CURRENT_LINEAR
     pert = np.empty(7)
@@ -235,8 +253,8 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
             if k >= 0:
                 h = 1e-7 * max(1.0, abs(state[k]))
                 pert[k] += h
-            f = point_load(w, kind, d, area, cd, gamp, cm, t, pert[6], pert[3], pert[4], pert[5],
-                           pert[0], pert[1], pert[2], 0.0, 0.0, 0.0)
+            f = point_load(w, section, t, pert[6], (pert[3], pert[4], pert[5]), (pert[0], pert[1], pert[2]),
+                           (0.0, 0.0, 0.0))
             if k < 0:
                 fpt[p, 0], fpt[p, 1], fpt[p, 2] = f
             else:

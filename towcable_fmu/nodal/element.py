@@ -40,7 +40,7 @@ import math
 import numpy as np
 
 from ..kernel_cache import njit
-from ..hydro.cable import point_load
+from ..hydro.cable import Section, point_load
 from .model import NodalModel
 
 #: Gauss points on [0, 1] (two points, weights 1/2): exact for cubic integrands.
@@ -85,6 +85,7 @@ def add_element(m: NodalModel, e: int, q: np.ndarray, v: np.ndarray, a: np.ndarr
     w = m.water
     if not w.enabled:
         return
+    section = Section(m.kind[e], m.d[e], m.area[e], m.cd[e], m.g_amp[e], m.cm[e])
     for g in range(2):
         xi = _G0 if g == 0 else _G1
         pz = (1.0 - xi) * q[i + 2] + xi * q[i + 5]
@@ -96,8 +97,7 @@ def add_element(m: NodalModel, e: int, q: np.ndarray, v: np.ndarray, a: np.ndarr
         ax = (1.0 - xi) * a[i] + xi * a[i + 3]
         ay = (1.0 - xi) * a[i + 1] + xi * a[i + 4]
         az = (1.0 - xi) * a[i + 2] + xi * a[i + 5]
-        fx, fy, fz = point_load(w, m.kind[e], m.d[e], m.area[e], m.cd[e], m.g_amp[e], m.cm[e], t, pz,
-                                ux, uy, uz, vx, vy, vz, ax, ay, az)
+        fx, fy, fz = point_load(w, section, t, pz, (ux, uy, uz), (vx, vy, vz), (ax, ay, az))
         wt = 0.5 * m.L0[e]
         _add_pair(r, i, -wt * fx, -wt * fy, -wt * fz, 1.0 - xi, xi)
 

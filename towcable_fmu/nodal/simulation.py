@@ -50,10 +50,17 @@ class NodalSimulation(SimulationDriver):
     COUNTER_NAMES = STAT_NAMES
 
     def __init__(self, scene: Scene) -> None:
-        self.scene = scene
+        self._keep(scene)  # read here only: afterwards every part has its own data
         self.model: NodalModel = build_nodal_model(scene)
         self.motion = motion_source(scene)
         s = scene.solver
+        self._integrator = s.integrator
+        self._statics_settings = scene.statics
+        #: the initial straight line's direction (inertial, unit) and a rigid body's attitude [rad]
+        self._direction = np.array(scene.cable.initial.direction, dtype=float)
+        self._direction /= np.linalg.norm(self._direction)
+        self._attitude = (np.array(scene.towbody.rigid.attitude, dtype=float) if self.model.rigid.enabled
+                          else np.zeros(3))
         self.options = NodalOptions(INTEGRATORS[s.integrator], s.time_step, s.min_time_step,
                                     np.array(scheme_coefficients(s.rho_inf)), s.newton_tol, s.max_newton_iterations)
         n = n_coordinates(self.model)
@@ -87,17 +94,15 @@ class NodalSimulation(SimulationDriver):
         st.v[:] = 0.0
         st.x[:] = 0.0
         prescribe_top(m, *drive, t0, st.q, st.v, st.x)
-        direction = np.array(self.scene.cable.initial.direction, dtype=float)
         arc = np.concatenate([[0.0], np.cumsum(m.L0)])
-        nodes = (st.q[:3] + arc[:, None] * direction / np.linalg.norm(direction)).ravel()
+        nodes = (st.q[:3] + arc[:, None] * self._direction).ravel()
         if m.rigid.enabled:  # the tow point on the last node, the body at its initial attitude
-            attitude = np.array(self.scene.towbody.rigid.attitude, dtype=float)
-            cg = nodes[-3:] - rotation(*attitude) @ m.rigid.axes[ROW_TOW]
-            nodes = np.concatenate([nodes[:-3], cg, attitude])
+            cg = nodes[-3:] - rotation(*self._attitude) @ m.rigid.axes[ROW_TOW]
+            nodes = np.concatenate([nodes[:-3], cg, self._attitude])
         st.q[:] = nodes
         prescribe_top(m, *drive, t0, st.q, st.v, st.x)
-        if self.scene.statics.enabled if statics is None else statics:
-            cfg = self.scene.statics
+        cfg = self._statics_settings
+        if cfg.enabled if statics is None else statics:
             ok, iterations, res = solve_statics(m, st.q, t0, cfg.tolerance, cfg.max_iterations)
             self._statics = {"solver.statics_iterations": int(iterations), "solver.statics_residual": float(res)}
             if not ok:
@@ -121,7 +126,7 @@ class NodalSimulation(SimulationDriver):
         reached = advance_recording(self.model, self.options, self.state, np.array([t0 + dt]), *drive, values,
                                     self._interpolant, False, t0 + dt)
         if reached < 1:
-            raise SolverError(f"the {self.scene.solver.integrator} integrator could not advance from "
+            raise SolverError(f"the {self._integrator} integrator could not advance from "
                               f"t = {t0:.6g} s by {dt:.6g} s")
 
     def _state_arrays(self) -> tuple[np.ndarray, ...]:
@@ -202,7 +207,7 @@ class NodalSimulation(SimulationDriver):
     def _failure(self, t: float) -> SolverError:
         pitch = (f"; the rigid body's pitch is {self.state.q[-2]:.4g} rad, its Euler angles are singular at "
                  f"+-pi/2" if self.model.rigid.enabled else "")
-        return SolverError(f"the {self.scene.solver.integrator} integrator could not advance to t = {t:.6g} s "
+        return SolverError(f"the {self._integrator} integrator could not advance to t = {t:.6g} s "
                            f"(step {self.state.clock[CLOCK_STEP]:.3g} s; an explicit RK4 step must resolve the "
                            f"highest axial frequency of the mesh{pitch})")
 

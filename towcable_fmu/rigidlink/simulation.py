@@ -64,7 +64,7 @@ class RigidLinkSimulation(SimulationDriver):
     NEEDS_SHIP = False
 
     def __init__(self, scene: RigidLinkScene) -> None:
-        self.scene = scene
+        self._keep(scene)
         n = scene.cable.links
         self.theta0, link = parabola_angles(n, scene.layout)
         self.l = np.full(n, link)

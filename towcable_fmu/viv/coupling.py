@@ -25,7 +25,8 @@ from typing import Any, Mapping
 import numpy as np
 
 from ..errors import SceneError
-from ..scene.model import Scene
+from ..ancf.model import CableModel, Mesh
+from ..scene.model import Viv
 from .loads import add_generalised, force_factors, interpolation_table, nodal_forces
 from .oscillator import advance_wake, strouhal_frequency, wake_acceleration
 
@@ -35,32 +36,31 @@ class WakeCoupling:
 
     Parameters
     ----------
-    scene
-        A validated scene with an enabled ``[viv]`` table.
-    segment_of_element
-        Segment index of every element, shape (ne,).
-    lengths
-        Element lengths [m], shape (ne,).
-    load
-        The wake term's generalised load vector [N], shape (nf,): overwritten with the wake
-        load before every cable step.
+    viv
+        The scene's enabled ``[viv]`` table.
+    mesh, model
+        The cable's mesh (segment of every element) and compiled model (element lengths,
+        diameters, integration points; ``model.terms.wake.load``, the wake term's
+        generalised load vector [N], is overwritten with the wake load before every cable
+        step).
+    flow
+        Free-stream velocity, the scene's uniform current (3,) [m/s].
+    density
+        Fluid density [kg/m^3].
     """
 
-    def __init__(self, scene: Scene, segment_of_element: np.ndarray, lengths: np.ndarray,
-                 load: np.ndarray) -> None:
-        viv = scene.viv
-        segs = scene.cable.segments
-        self.elements = np.flatnonzero(np.isin(segment_of_element, viv.segments)).astype(np.int64)
+    def __init__(self, viv: Viv, mesh: Mesh, model: CableModel, flow: np.ndarray, density: float) -> None:
+        lengths = model.el_len
+        self.elements = np.flatnonzero(np.isin(mesh.segment_of_element, viv.segments)).astype(np.int64)
         #: cable node index of every wake node, shape (m,)
         self.nodes = np.unique(np.concatenate([self.elements, self.elements + 1])).astype(np.int64)
         local = np.full(lengths.size + 1, -1, dtype=np.int64)
         local[self.nodes] = np.arange(self.nodes.size)
         self.node_a = local[self.elements]
         self.node_b = local[self.elements + 1]
-        points = np.array([segs[segment_of_element[e]].integration_points for e in self.elements])
-        self.table = interpolation_table(lengths[self.elements], points)
-        self.diameter = segs[viv.segments[0]].diameter
-        flow = np.asarray(scene.water.current.velocity, dtype=float)
+        self.table = interpolation_table(lengths[self.elements], model.el_npts[self.elements])
+        self.diameter = float(model.el_d[np.flatnonzero(mesh.segment_of_element == viv.segments[0])[0]])
+        flow = np.asarray(flow, dtype=float)
         #: free-stream speed U [m/s]
         self.speed = float(np.linalg.norm(flow))
         self.e_sw = flow / self.speed
@@ -69,11 +69,10 @@ class WakeCoupling:
         self.e_cf = cf / np.linalg.norm(cf)
         #: Strouhal frequency w_st [rad/s], A25
         self.omega = strouhal_frequency(viv.strouhal, self.speed, self.diameter)
-        self.k_sw, self.k_cf = force_factors(scene.water.density, self.speed, self.diameter, viv.strouhal,
-                                             viv.cd0, viv.cl0)
+        self.k_sw, self.k_cf = force_factors(density, self.speed, self.diameter, viv.strouhal, viv.cd0, viv.cl0)
         self.a1, self.a2, self.a3 = viv.a1, viv.a2, viv.a3
         self._w0 = viv.initial_w
-        self._load = load
+        self._load = model.terms.wake.load
         self._nodes = lengths.size + 1
         m = self.nodes.size
         self.w = np.zeros(m)

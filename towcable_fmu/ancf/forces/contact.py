@@ -14,6 +14,7 @@ from ...contact import cable as cable_contact
 from ...contact.surfaces import CYLINDER, RIM, SHEAVE, WALL_MINUS, WALL_PLUS, WINCH, ContactModel, no_contact
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
+from .term import add_element_block
 
 NAME = "contact"
 Data = ContactModel
@@ -55,20 +56,30 @@ def build_contact(scene: Scene) -> ContactModel:
         np.array([f[9].damping for f in faces]), np.zeros(1, dtype=np.int64))
 
 
+@njit(cache=True, inline="always")
+def elements(model: CableModel) -> cable_contact.Elements:
+    """The cable's elements as the contact kernels read them."""
+    return cable_contact.Elements(model.el_len, model.el_d, model.el_npts)
+
+
 # IR-inlined into the assembly: a kernel of its own would be one more library for the
 # assembly to link and optimise again, with all the code beneath it.
 @njit(cache=True, inline="always")
 def residual(term: ContactModel, model: CableModel, motion: Motion, a: np.ndarray, first: int, stop: int,
              out: np.ndarray) -> None:
     """Subtract the contact forces of the elements ``first`` to ``stop - 1``."""
-    cable_contact.add_residual(term, model.el_len, model.el_d, model.el_npts, motion.q, motion.v, motion.ship,
-                               first, stop, out)
+    cable_contact.add_residual(term, elements(model), motion.q, motion.v, motion.ship, first, stop, out)
 
 
 @njit(cache=True, inline="always")  # (as residual)
 def tangent(term: ContactModel, model: CableModel, motion: Motion, ca: float, cv: float, cq: float,
             ab: np.ndarray) -> None:
-    """The contact part of ``cv C + cq K`` (element blocks, see :func:`~towcable_fmu.contact.cable.add_jacobian`)."""
-    cable_contact.add_jacobian(term, model.el_len, model.el_d, model.el_npts, motion.q, motion.v, motion.ship,
-                               model.free_idx, model.kl, model.ku, cv, cq, ab)
-
+    """The contact part of ``cv C + cq K``: a 12x12 block per element a face acts on
+    (:func:`~towcable_fmu.contact.cable.element_jacobian`)."""
+    cable = elements(model)
+    frame = cable_contact.frame_of(motion.ship)
+    work = cable_contact.new_scratch(term, cable)
+    ke = np.empty((12, 12))
+    for e in range(cable.length.shape[0]):
+        if cable_contact.element_jacobian(term, cable, motion.q, motion.v, frame, e, cv, cq, work, ke):
+            add_element_block(model, e, ke, ab)

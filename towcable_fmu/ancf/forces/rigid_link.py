@@ -54,8 +54,8 @@ def build(scene: Scene, mesh: Mesh, model: CableModel) -> Data:
 
 
 @njit(cache=True)
-def _rows(term: Data, model: CableModel, zq: np.ndarray, zv: np.ndarray, za: np.ndarray, t: float,
-          rows: np.ndarray) -> None:
+def link_rows(term: Data, model: CableModel, zq: np.ndarray, zv: np.ndarray, za: np.ndarray, t: float,
+              rows: np.ndarray) -> None:
     """The residual rows of the body and its link to the cable end.
 
     Parameters
@@ -119,7 +119,7 @@ def residual(term: Data, model: CableModel, motion: Motion, a: np.ndarray, first
     _gather(motion.q, coords, zq)
     _gather(motion.v, coords, zv)
     _gather(a, coords, za)
-    _rows(term, model, zq, zv, za, motion.t, rows)
+    link_rows(term, model, zq, zv, za, motion.t, rows)
     if not attitude_ok(zq[3:9]) or abs(zq[7]) > 0.5 * np.pi:
         # Euler angles singular (pitch +-pi/2): no residual, the step fails (the nodal
         # cable's integrators stop there too; Simulation names the cause)
@@ -133,7 +133,7 @@ def block(term: Data, model: CableModel, motion: Motion, ca: float, cv: float, c
     """``ca M + cv C + cq K`` of the body and its link over the 9 local coordinates.
 
     The body's equations are nonlinear in its angles and in the relative flow; their
-    derivatives are taken by differences of :func:`_rows` (central for q and v,
+    derivatives are taken by differences of :func:`link_rows` (central for q and v,
     one-sided for a, in which the rows are linear), at zero acceleration: the change of
     the inertia forces with the attitude (terms in the body's acceleration) is left
     out, as modified Newton allows. Rows and columns: the last node's position, then the
@@ -146,11 +146,11 @@ def block(term: Data, model: CableModel, motion: Motion, ca: float, cv: float, c
     r0, rp, rm = np.empty(9), np.empty(9), np.empty(9)
     out = np.zeros((9, 9))
     t = motion.t
-    _rows(term, model, zq, zv, za, t, r0)
+    link_rows(term, model, zq, zv, za, t, r0)
     for j in range(9):
         if ca != 0.0:
             za[j] = 1.0
-            _rows(term, model, zq, zv, za, t, rp)
+            link_rows(term, model, zq, zv, za, t, rp)
             za[j] = 0.0
             for r in range(9):
                 out[r, j] += ca * (rp[r] - r0[r])
@@ -162,9 +162,9 @@ def block(term: Data, model: CableModel, motion: Motion, ca: float, cv: float, c
             keep = z[j]
             h = 1e-6 * max(1.0, abs(keep))
             z[j] = keep + h
-            _rows(term, model, zq, zv, za, t, rp)
+            link_rows(term, model, zq, zv, za, t, rp)
             z[j] = keep - h
-            _rows(term, model, zq, zv, za, t, rm)
+            link_rows(term, model, zq, zv, za, t, rm)
             z[j] = keep
             for r in range(9):
                 out[r, j] += weight * (rp[r] - rm[r]) / (2.0 * h)
