@@ -50,11 +50,9 @@ def _contact_residual() -> tuple:
 
 
 def _contact_jacobian() -> tuple:
-    c, cable, q, v = _contact_state()
-    ship = _reference().workspace.ship
-    frame = cable_contact.Frame(*rotation_derivatives(ship)[:2], ship)
-    work = cable_contact.new_scratch(c, cable)
-    return c, cable, q, v, frame, np.intp(0), 0.0, 1.0, work, np.empty((12, 12))
+    ne = _reference().model.el_len.shape[0]
+    return (*_contact_state(), _reference().workspace.ship, 0.0, 1.0, np.empty((ne, 12, 12)),
+            np.empty(ne, dtype=np.bool_))
 
 
 def _surface_summary() -> tuple:
@@ -144,10 +142,11 @@ def kernel_jobs() -> list[Job]:
         Job("ancf.rigid_link_rows", rigid_link.link_rows, _link_rows, 3.2, ("rigid_body.tow_point_state",)),
         Job("ancf.residual", residual, _residual, 8.1,
             ("contact.add_residual", "ancf.rigid_link_rows", "hydro.add_residual")),
-        Job("contact.element_jacobian", cable_contact.element_jacobian, _contact_jacobian, 3.1),
+        Job("contact.add_jacobian", cable_contact.add_jacobian, _contact_jacobian, 3.1,
+            ("kinematics.rotation_derivatives",)),
         Job("hydro.add_jacobian", cable_hydro.add_jacobian, _hydro_jacobian, 1.8),
         Job("ancf.iteration_matrix", iteration_matrix, _iteration_matrix, 8.0,
-            ("contact.element_jacobian", "hydro.add_jacobian", "ancf.rigid_link_rows")),
+            ("contact.add_jacobian", "hydro.add_jacobian", "ancf.rigid_link_rows")),
         Job("contact.surface_summary", cable_contact.surface_summary, _surface_summary, 2.8,
             ("kinematics.rotation_derivatives",)),
         Job("ancf.band_lu", band_lu, lambda: _band(False), 0.3),

@@ -87,26 +87,6 @@ class Elements(NamedTuple):
     points: np.ndarray     #: (ne,) int64 integration grid points N_I
 
 
-class Frame(NamedTuple):
-    """The ship's pose as the contact kernels use it."""
-
-    rot: np.ndarray    #: (3, 3) rotation ship -> inertial
-    rot1: np.ndarray   #: (3, 3) its time derivative [1/s]
-    ship: np.ndarray   #: (3, 6) ship state (pose [m, rad], rates, accelerations)
-
-
-class Scratch(NamedTuple):
-    """Work arrays of one element's face quadrature (m = twice the largest grid)."""
-
-    xi: np.ndarray      #: (m,) quadrature abscissae
-    wt: np.ndarray      #: (m,) weights [m]
-    g: np.ndarray       #: (m,) face indicator at the grid points
-    cross: np.ndarray   #: (m,) int64 crossing flags
-    fpt: np.ndarray     #: (m, 4) force per unit length [N/m] and energy density [J/m] at each point
-    pts: np.ndarray     #: (m, 6) position [m] and velocity [m/s] of each point
-    faces: np.ndarray   #: (faces,) int64 the faces the element can touch
-
-
 class SurfaceSummary(NamedTuple):
     """What touches what, per surface s = WINCH, SHEAVE (see :func:`surface_summary`)."""
 
@@ -118,23 +98,12 @@ class SurfaceSummary(NamedTuple):
     dist: np.ndarray     #: (k, 3) rows (surface, psi [rad], force per unit length [N/m]) of active points
 
 
-@njit(cache=True, inline="always")
-def frame_of(ship: np.ndarray) -> Frame:
-    """The ship state's rotation and its rate."""
-    rot, rot1, _ = rotation_derivatives(ship)
-    return Frame(rot, rot1, ship)
-
-
-@njit(cache=True, inline="always")
-def new_scratch(c: ContactModel, cable: Elements) -> Scratch:
-    """Work arrays for the elements of ``cable``."""
-    m = 2 * cable.points.max()
-    return Scratch(np.empty(m), np.empty(m), np.empty(m), np.empty(m, dtype=np.int64), np.zeros((m, 4)),
-                   np.empty((m, 6)), np.empty(c.face_kind.shape[0], dtype=np.int64))
-
-
 # _element_points, _face_quadrature and _touching_faces are kernels of their own (typed
 # once): IR-inlined, each of the three contact kernels typed them again (7 s of compiling).
+# They take their arrays one by one, not bundled: a named tuple of arrays passed to a kernel
+# that is not inlined (or read field by field inside a loop) costs reference counting on
+# every array at every call; bundled, the contact residual of full_scale took 100 us
+# instead of 28 us (measured).
 @njit(cache=True)
 def _element_points(q, v, base, length, npts, pts):
     """Positions and velocities (inertial) of the element's grid points into pts (npts, 6)."""
@@ -145,25 +114,22 @@ def _element_points(q, v, base, length, npts, pts):
 
 
 @njit(cache=True)
-def _face_quadrature(c, f, frame, cable, e, q, v, work):
-    """Active quadrature of face f on element e (its grid points already in ``work.pts``);
-    forces and stored energy density at all its points into ``work.fpt`` (columns fx, fy,
-    fz [N/m], energy [J/m]). The crossing points are appended to ``work.pts``."""
-    base, length, npts, half_d = 6 * e, cable.length[e], cable.points[e], 0.5 * cable.diameter[e]
-    pts, fpt = work.pts, work.fpt
+def _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, pts, xi, wt, g, cross, fpt):
+    """Active quadrature of face f on one element (grid points in ``pts``); forces and stored
+    energy density at all its points into ``fpt`` (columns fx, fy, fz [N/m], energy [J/m]).
+    The crossing points are appended to ``pts``."""
     count = npts
     start = 0
     for stage in range(2):  # the grid, then the crossings its indicator gives (one inlined force call)
         for p in range(start, count):
             fpt[p, 0], fpt[p, 1], fpt[p, 2], gp, fpt[p, 3] = _inertial_force(
-                c, f, half_d, frame.rot, frame.rot1, frame.ship, pts[p, 0], pts[p, 1], pts[p, 2], pts[p, 3],
-                pts[p, 4], pts[p, 5])
+                c, f, half_d, rot, rot1, ship, pts[p, 0], pts[p, 1], pts[p, 2], pts[p, 3], pts[p, 4], pts[p, 5])
             if stage == 0:
-                work.g[p] = gp
+                g[p] = gp
         if stage == 0:
-            count = active_quadrature(length, npts, work.g, work.xi, work.wt, work.cross)
+            count = active_quadrature(length, npts, g, xi, wt, cross)
             for p in range(npts, count):
-                n = hermite(work.xi[p], length)
+                n = hermite(xi[p], length)
                 pts[p, 0], pts[p, 1], pts[p, 2] = interpolate(q, base, n[0], n[1], n[2], n[3])
                 pts[p, 3], pts[p, 4], pts[p, 5] = interpolate(v, base, n[0], n[1], n[2], n[3])
             start = npts
@@ -171,22 +137,18 @@ def _face_quadrature(c, f, frame, cable, e, q, v, work):
 
 
 @njit(cache=True)
-def _touching_faces(c, cable, e, q, v, frame, work) -> int:
-    """Faces element e can touch, into ``work.faces`` (the bounding test runs once per
-    surface); with any, the element's grid points into ``work.pts``."""
-    base, length, half_d = 6 * e, cable.length[e], 0.5 * cable.diameter[e]
+def _touching_faces(c, half_d, q, base, length, rot, ship, faces) -> int:
+    """Faces element (at base) can touch, into ``faces``; the bounding test runs once per surface."""
     count = 0
     surface = -1
     reach = False
     for f in range(c.face_kind.shape[0]):
         if c.face_surface[f] != surface:
             surface = c.face_surface[f]
-            reach = _reaches(c, f, half_d, q, base, length, frame.rot, frame.ship)
+            reach = _reaches(c, f, half_d, q, base, length, rot, ship)
         if reach:
-            work.faces[count] = f
+            faces[count] = f
             count += 1
-    if count:
-        _element_points(q, v, base, length, cable.points[e], work.pts)
     return count
 
 
@@ -194,101 +156,130 @@ def _touching_faces(c, cable, e, q, v, frame, work) -> int:
 def add_residual(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarray, ship: np.ndarray, first: int,
                  stop: int, out: np.ndarray) -> None:
     """Subtract the generalised contact forces of the elements ``first`` to ``stop - 1`` that touch a face."""
-    frame = frame_of(ship)
-    work = new_scratch(c, cable)
+    el_len, el_d, el_npts = cable
+    rot, rot1, _ = rotation_derivatives(ship)
+    m = 2 * el_npts.max()
+    xi = np.empty(m)
+    wt = np.empty(m)
+    g = np.empty(m)
+    cross = np.empty(m, dtype=np.int64)
+    fpt = np.empty((m, 4))
+    pts = np.empty((m, 6))
+    faces = np.empty(c.face_kind.shape[0], dtype=np.int64)
     evaluations = 0
     for e in range(first, stop):
         base = 6 * e
-        length = cable.length[e]
-        nfaces = _touching_faces(c, cable, e, q, v, frame, work)
+        length = el_len[e]
+        half_d = 0.5 * el_d[e]
+        npts = el_npts[e]
+        nfaces = _touching_faces(c, half_d, q, base, length, rot, ship, faces)
+        if nfaces:
+            _element_points(q, v, base, length, npts, pts)
         for k in range(nfaces):
-            count = _face_quadrature(c, work.faces[k], frame, cable, e, q, v, work)
+            f = faces[k]
+            count = _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, pts, xi, wt, g, cross,
+                                     fpt)
             evaluations += count
             for p in range(count):
-                wp = work.wt[p]
+                wp = wt[p]
                 if wp == 0.0:
                     continue
-                n = hermite(work.xi[p], length)
+                n = hermite(xi[p], length)
                 for i in range(4):
                     k = wp * n[i]
-                    out[base + 3 * i] -= k * work.fpt[p, 0]
-                    out[base + 3 * i + 1] -= k * work.fpt[p, 1]
-                    out[base + 3 * i + 2] -= k * work.fpt[p, 2]
+                    out[base + 3 * i] -= k * fpt[p, 0]
+                    out[base + 3 * i + 1] -= k * fpt[p, 1]
+                    out[base + 3 * i + 2] -= k * fpt[p, 2]
     c.calls[0] += evaluations
 
 
 @njit(cache=True)
-def element_jacobian(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarray, frame: Frame, e: int,
-                     cv: float, cq: float, work: Scratch, ke: np.ndarray) -> bool:
-    """Element e's contact part of ``cv C + cq K`` into the 12x12 block ``ke`` (overwritten);
-    False (``ke`` not written) when no face acts on it.
+def add_jacobian(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarray, ship: np.ndarray, cv: float,
+                 cq: float, blocks: np.ndarray, touched: np.ndarray) -> None:
+    """The contact part of ``cv C + cq K``, element by element: the 12x12 block of element
+    ``e`` into ``blocks[e]`` (ne, 12, 12) and ``touched[e]`` True where a face acts on it
+    (``blocks[e]`` is written only there; ``touched`` is overwritten).
 
     Derivatives of the point force with respect to the point position and velocity by
     finite differences; the stiffness of the moving contact boundary from the derivative
     of the active length (:func:`towcable_fmu.ancf.partial.crossing_stiffness`).
     """
-    nfaces = _touching_faces(c, cable, e, q, v, frame, work)
-    if nfaces == 0:
-        return False
-    base, length, npts, half_d = 6 * e, cable.length[e], cable.points[e], 0.5 * cable.diameter[e]
-    xi, wt, g, fpt = work.xi, work.wt, work.g, work.fpt
-    dg = np.zeros((xi.shape[0], 3))
+    el_len, el_d, el_npts = cable
+    rot, rot1, _ = rotation_derivatives(ship)
+    m = 2 * el_npts.max()
+    xi = np.empty(m)
+    wt = np.empty(m)
+    g = np.empty(m)
+    cross = np.empty(m, dtype=np.int64)
+    fpt = np.zeros((m, 4))
+    dg = np.zeros((m, 3))
     jac = np.empty((3, 6))
     state = np.empty(6)
     f0 = np.empty(4)
-    touched = False
-    for kf in range(nfaces):
-        f = work.faces[kf]
-        count = _face_quadrature(c, f, frame, cable, e, q, v, work)
-        active = False
-        for p in range(npts):
-            active = active or wt[p] > 0.0
-        if not active:
-            continue
-        if not touched:
-            ke[:, :] = 0.0
-            touched = True
-        for p in range(count):
-            wp = wt[p]
-            # derivatives where the load acts, and the indicator gradient where a crossing needs it
-            needs_dg = p < npts and ((p > 0 and (g[p - 1] > 0.0) != (g[p] > 0.0))
-                                     or (p < npts - 1 and (g[p + 1] > 0.0) != (g[p] > 0.0)))
-            if wp == 0.0 and not needs_dg:
+    pts = np.empty((m, 6))
+    faces = np.empty(c.face_kind.shape[0], dtype=np.int64)
+    for e in range(el_len.shape[0]):
+        base = 6 * e
+        length = el_len[e]
+        half_d = 0.5 * el_d[e]
+        npts = el_npts[e]
+        touched[e] = False
+        ke = blocks[e]
+        nfaces = _touching_faces(c, half_d, q, base, length, rot, ship, faces)
+        if nfaces:
+            _element_points(q, v, base, length, npts, pts)
+        for kf in range(nfaces):
+            f = faces[kf]
+            count = _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, pts, xi, wt, g, cross,
+                                     fpt)
+            active = False
+            for p in range(npts):
+                active = active or wt[p] > 0.0
+            if not active:
                 continue
-            n = hermite(xi[p], length)
-            rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
-            vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
-            base_state = (rx, ry, rz, vx, vy, vz)
-            # k = -1: the force at the point itself, then one perturbed state per column (a
-            # single call site of the inlined _inertial_force: each site is typed on its own)
-            for k in range(-1, 6):
-                for j in range(6):
-                    state[j] = base_state[j]
-                h = 0.0
-                if k >= 0:
-                    h = 1e-8 * max(1.0, abs(state[k]))
-                    state[k] += h
-                fk = _inertial_force(c, f, half_d, frame.rot, frame.rot1, frame.ship, state[0], state[1], state[2],
-                                     state[3], state[4], state[5])
-                if k < 0:
-                    for d in range(4):
-                        f0[d] = fk[d]
+            if not touched[e]:
+                ke[:, :] = 0.0
+                touched[e] = True
+            for p in range(count):
+                wp = wt[p]
+                # derivatives where the load acts, and the indicator gradient where a crossing needs it
+                needs_dg = p < npts and ((p > 0 and (g[p - 1] > 0.0) != (g[p] > 0.0))
+                                         or (p < npts - 1 and (g[p + 1] > 0.0) != (g[p] > 0.0)))
+                if wp == 0.0 and not needs_dg:
                     continue
-                for d in range(3):
-                    jac[d, k] = (fk[d] - f0[d]) / h
-                if k < 3:
-                    dg[p, k] = (fk[3] - f0[3]) / h
-            if wp == 0.0:
-                continue
-            for i in range(4):
-                for j in range(4):
-                    nn = wp * n[i] * n[j]
+                n = hermite(xi[p], length)
+                rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
+                vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
+                base_state = (rx, ry, rz, vx, vy, vz)
+                # k = -1: the force at the point itself, then one perturbed state per column (a
+                # single call site of the inlined _inertial_force: each site is typed on its own)
+                for k in range(-1, 6):
+                    for j in range(6):
+                        state[j] = base_state[j]
+                    h = 0.0
+                    if k >= 0:
+                        h = 1e-8 * max(1.0, abs(state[k]))
+                        state[k] += h
+                    fk = _inertial_force(c, f, half_d, rot, rot1, ship, state[0], state[1], state[2],
+                                         state[3], state[4], state[5])
+                    if k < 0:
+                        for d in range(4):
+                            f0[d] = fk[d]
+                        continue
                     for d in range(3):
-                        for k in range(3):
-                            ke[3 * i + d, 3 * j + k] -= nn * (cq * jac[d, k] + cv * jac[d, 3 + k])
-        if cq != 0.0:
-            crossing_stiffness(length, npts, cq, xi, g, dg, work.cross, fpt, count, ke)
-    return touched
+                        jac[d, k] = (fk[d] - f0[d]) / h
+                    if k < 3:
+                        dg[p, k] = (fk[3] - f0[3]) / h
+                if wp == 0.0:
+                    continue
+                for i in range(4):
+                    for j in range(4):
+                        nn = wp * n[i] * n[j]
+                        for d in range(3):
+                            for k in range(3):
+                                ke[3 * i + d, 3 * j + k] -= nn * (cq * jac[d, k] + cv * jac[d, 3 + k])
+            if cq != 0.0:
+                crossing_stiffness(length, npts, cq, xi, g, dg, cross, fpt, count, ke)
 
 
 @njit(cache=True)
@@ -315,8 +306,9 @@ def surface_summary(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarr
     int
         Number of rows written to ``out.dist``.
     """
-    frame = frame_of(ship)
+    el_len, el_d, el_npts = cable
     force, span, ends, lowest, energy, dist = out
+    rot, rot1, _ = rotation_derivatives(ship)
     force[:, :] = 0.0
     span[:, 0] = np.inf
     span[:, 1] = -np.inf
@@ -324,23 +316,35 @@ def surface_summary(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarr
     ends[:, 2] = -1.0
     lowest[:] = np.inf
     energy[:] = 0.0
-    work = new_scratch(c, cable)
-    xi, wt, fpt = work.xi, work.wt, work.fpt
+    m = 2 * el_npts.max()
+    xi = np.empty(m)
+    wt = np.empty(m)
+    g = np.empty(m)
+    cross = np.empty(m, dtype=np.int64)
+    fpt = np.empty((m, 4))
+    pts = np.empty((m, 6))
+    faces = np.empty(c.face_kind.shape[0], dtype=np.int64)
     rows = 0
-    for e in range(cable.length.shape[0]):
-        base, length, npts, half_d = 6 * e, cable.length[e], cable.points[e], 0.5 * cable.diameter[e]
-        nfaces = _touching_faces(c, cable, e, q, v, frame, work)
+    for e in range(el_len.shape[0]):
+        base = 6 * e
+        length = el_len[e]
+        half_d = 0.5 * el_d[e]
+        npts = el_npts[e]
+        nfaces = _touching_faces(c, half_d, q, base, length, rot, ship, faces)
+        if nfaces:
+            _element_points(q, v, base, length, npts, pts)
         for kf in range(nfaces):
-            f = work.faces[kf]
+            f = faces[kf]
             s = c.face_surface[f]
             if s >= force.shape[0]:  # an idler (surface 2, 3, ...): not summarised
                 continue
-            count = _face_quadrature(c, f, frame, cable, e, q, v, work)
+            count = _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, pts, xi, wt, g, cross,
+                                     fpt)
             for p in range(count):
                 n = hermite(xi[p], length)
                 rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
                 vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
-                sx, sy, sz, _, _, _ = _ship_point(c, f, frame.rot, frame.rot1, ship, rx, ry, rz, vx, vy, vz)
+                sx, sy, sz, _, _, _ = _ship_point(c, f, rot, rot1, ship, rx, ry, rz, vx, vy, vz)
                 if p < npts and sz >= 0.0:
                     h = math.sqrt(sx * sx + sz * sz) - (c.face_radius[f] + half_d)
                     if c.face_kind[f] != CYLINDER:  # out of a groove: above its top, or climbed out

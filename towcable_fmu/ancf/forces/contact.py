@@ -75,11 +75,11 @@ def residual(term: ContactModel, model: CableModel, motion: Motion, a: np.ndarra
 def tangent(term: ContactModel, model: CableModel, motion: Motion, ca: float, cv: float, cq: float,
             ab: np.ndarray) -> None:
     """The contact part of ``cv C + cq K``: a 12x12 block per element a face acts on
-    (:func:`~towcable_fmu.contact.cable.element_jacobian`)."""
-    cable = elements(model)
-    frame = cable_contact.frame_of(motion.ship)
-    work = cable_contact.new_scratch(term, cable)
-    ke = np.empty((12, 12))
-    for e in range(cable.length.shape[0]):
-        if cable_contact.element_jacobian(term, cable, motion.q, motion.v, frame, e, cv, cq, work, ke):
-            add_element_block(model, e, ke, ab)
+    (:func:`~towcable_fmu.contact.cable.add_jacobian`)."""
+    ne = model.el_len.shape[0]
+    blocks = np.empty((ne, 12, 12))
+    touched = np.empty(ne, dtype=np.bool_)
+    cable_contact.add_jacobian(term, elements(model), motion.q, motion.v, motion.ship, cv, cq, blocks, touched)
+    for e in range(ne):
+        if touched[e]:
+            add_element_block(model, e, blocks[e], ab)
