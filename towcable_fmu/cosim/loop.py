@@ -111,7 +111,9 @@ class Record(NamedTuple):
     booleans: np.ndarray  #: (rows, booleans) the recorded Boolean outputs
 
 
-@njit(cache=True)
+# feed and read are inlined into advance: called as kernels of their own, passing the two
+# bundles of arrays cost reference counting at every call (about 1 us each, six per step).
+@njit(cache=True, inline="always")
 def feed(i, calls, buffers):
     """Gather FMU ``i``'s inputs from the outputs and set them; the status (0 = nothing to set)."""
     buf = buffers
@@ -123,7 +125,7 @@ def feed(i, calls, buffers):
     return calls.set_reals[i](calls.components[i], buf.in_vr[a:].ctypes.data, b - a, buf.inputs[a:].ctypes.data)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def read(i, calls, buffers):
     """Get FMU ``i``'s Real outputs into ``buffers.outputs``; the status."""
     a, b = buffers.out_off[i], buffers.out_off[i + 1]
