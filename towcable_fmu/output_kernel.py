@@ -18,7 +18,8 @@ import numpy as np
 from .kernel_cache import njit
 from .ancf.measures import element_tension, point_on_cable, summary
 from .ancf.model import CableModel
-from .contact.cable import Elements, SurfaceSummary, surface_summary
+from .ancf.forces.contact import elements
+from .contact.cable import new_summary, surface_summary
 from .contact.surfaces import SHEAVE, WINCH
 from .hydro.towbody import body_force
 from .kinematics import rotation_matrix
@@ -65,7 +66,7 @@ class OutputScene(NamedTuple):
 class Recording(NamedTuple):
     """What :func:`advance_recording` records, and how it samples."""
 
-    scene: "OutputScene"   #: what the outputs need of the scene
+    scene: OutputScene     #: what the outputs need of the scene
     index: np.ndarray      #: (k,) intp: the fields of OUTPUT_FIELDS to record (none: only step)
     rows: np.ndarray       #: (samples, k) receives them
     finite: bool           #: stop at the first sample with a non-finite output
@@ -227,9 +228,8 @@ def _rigid_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
 def _contact_values(model: CableModel, q: np.ndarray, v: np.ndarray, ship: np.ndarray, has_winch: bool,
                     sheave_position: np.ndarray, top: float, out: np.ndarray) -> None:
     """Contact forces, departure tensions and angle, wrap and detachment into ``out``."""
-    summary = SurfaceSummary(np.zeros((2, 3)), np.zeros((2, 2)), np.zeros((2, 4)), np.zeros(2), np.zeros(2),
-                             np.empty((0, 3)))
-    surface_summary(model.terms.contact, Elements(model.el_len, model.el_d, model.el_npts), q, v, ship, summary)
+    summary = new_summary(0)
+    surface_summary(model.terms.contact, elements(model), q, v, ship, summary)
     force, ends, lowest, energy = summary.force, summary.ends, summary.lowest, summary.energy
     out[12] = math.sqrt(force[WINCH, 0] ** 2 + force[WINCH, 1] ** 2 + force[WINCH, 2] ** 2)
     out[13] = math.sqrt(force[SHEAVE, 0] ** 2 + force[SHEAVE, 1] ** 2 + force[SHEAVE, 2] ** 2)

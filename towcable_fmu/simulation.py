@@ -19,7 +19,8 @@ from .ancf.mesh import build_mesh, build_model, held_load_forces
 from .ancf.model import CableModel, Mesh
 from .ancf.system import residual
 from .compensation_setup import compensation_config, compensation_table
-from .contact.cable import Elements, new_summary, surface_summary
+from .ancf.forces.contact import elements
+from .contact.cable import new_summary, surface_summary
 from .output_kernel import OUTPUT_FIELDS, OutputLayout, OutputScene, Recording, advance_recording
 from .errors import SceneError, SolverError
 from .rigid_body import angular_kinematics, tow_point_state
@@ -502,7 +503,7 @@ class Simulation(SimulationDriver):
         """
         m = self.model
         out = new_summary(4 * int(m.el_npts.sum()))
-        rows = surface_summary(m.terms.contact, Elements(m.el_len, m.el_d, m.el_npts), self.state.q, self.state.v,
+        rows = surface_summary(m.terms.contact, elements(m), self.state.q, self.state.v,
                                self.workspace.ship, out)
         return {"force": out.force, "span": out.span, "ends": out.ends, "lowest": out.lowest, "energy": out.energy,
                 "distribution": out.dist[:rows]}

@@ -15,6 +15,7 @@ import functools
 import numpy as np
 
 from .ancf.forces import rigid_link
+from .ancf.forces.contact import elements
 from .ancf.measures import element_tension, point_on_cable
 from .ancf.prescribed import apply_prescribed
 from .ancf.system import iteration_matrix, residual
@@ -42,7 +43,7 @@ def _contact_state() -> tuple:
     """The arguments every contact kernel starts with: the contact data, the elements and the state."""
     s = _reference()
     m, st = s.model, s.state
-    return m.terms.contact, cable_contact.Elements(m.el_len, m.el_d, m.el_npts), st.q, st.v
+    return m.terms.contact, elements(m), st.q, st.v
 
 
 def _contact_residual() -> tuple:
@@ -56,7 +57,7 @@ def _contact_jacobian() -> tuple:
 
 
 def _surface_summary() -> tuple:
-    return *_contact_state(), _reference().workspace.ship, cable_contact.new_summary()
+    return *_contact_state(), _reference().workspace.ship, cable_contact.new_summary(0)
 
 
 def _hydro_residual() -> tuple:

@@ -18,6 +18,7 @@ from ..kinematics import rotation_matrix
 from ..rigid_body import ROW_TOW, rotation
 from ..scene.model import Scene
 from . import initial_shape
+from .mesh import winch_radius
 from .model import CableModel, Mesh
 from .prescribed import apply_prescribed
 
@@ -53,7 +54,7 @@ def layout_from_scene(scene: Scene) -> InitialLayout:
         direction=np.array(cable.initial.direction, dtype=float),
         sag_direction=np.array(cable.initial.sag_direction, dtype=float),
         winch_center=np.zeros(3) if winch is None else np.array(winch.position, dtype=float),
-        winch_radius=0.0 if winch is None else winch.radius + half_d,
+        winch_radius=0.0 if winch is None else winch_radius(scene),
         pulley_centers=np.array([p.position for p in pulleys], dtype=float).reshape(-1, 3),
         pulley_radii=np.array([p.radius + half_d for p in pulleys], dtype=float),
         load_length=0.0 if scene.load is None else float(scene.load.length_pi),

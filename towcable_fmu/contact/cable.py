@@ -379,7 +379,8 @@ def surface_summary(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarr
     return rows
 
 
-def new_summary(distribution_rows: int = 0) -> SurfaceSummary:
+@njit(cache=True, inline="always")
+def new_summary(distribution_rows: int) -> SurfaceSummary:
     """Output arrays for :func:`surface_summary` with room for ``distribution_rows`` points."""
     return SurfaceSummary(np.zeros((2, 3)), np.zeros((2, 2)), np.zeros((2, 4)), np.zeros(2), np.zeros(2),
                           np.zeros((distribution_rows, 3)))
