@@ -219,6 +219,12 @@ def attitude_ok(q: np.ndarray) -> bool:
     return abs(math.cos(q[4])) > 1e-3
 
 
+def hanging_coordinates(b: RigidBodyModel, tow_point: np.ndarray, attitude: np.ndarray) -> np.ndarray:
+    """The body's six coordinates (CG [m], roll, pitch, yaw [rad]) at ``attitude`` with its
+    tow point at ``tow_point`` (inertial) [m]: where a cable's last node holds it at the start."""
+    return np.concatenate([tow_point - rotation(*attitude) @ b.axes[ROW_TOW], attitude])
+
+
 def build_rigid_body(scene: Scene) -> RigidBodyModel:
     """Rigid-body data of a scene (disabled unless ``towbody.model == "rigid"``)."""
     body = scene.towbody

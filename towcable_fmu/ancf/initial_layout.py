@@ -15,7 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..kinematics import rotation_matrix
-from ..rigid_body import ROW_TOW, rotation
+from ..rigid_body import hanging_coordinates
 from ..scene.model import Scene
 from . import initial_shape
 from .mesh import winch_radius
@@ -79,8 +79,7 @@ def initial_coordinates(layout: InitialLayout, mesh: Mesh, model: CableModel, sh
     x = _cable_shape(layout, mesh, model, ship0, phi)
     link = model.terms.rigid_link
     if link.enabled:
-        cg = x[-6:-3] - rotation(*layout.body_attitude) @ link.body.axes[ROW_TOW]
-        return np.concatenate([x, cg, layout.body_attitude])
+        return np.concatenate([x, hanging_coordinates(link.body, x[-6:-3], layout.body_attitude)])
     if not model.terms.rigid_load.enabled:
         return x
     direction = x[-3:] / np.linalg.norm(x[-3:])

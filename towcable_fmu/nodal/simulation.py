@@ -19,7 +19,7 @@ import numpy as np
 from .. import drive as drive_poly
 from ..errors import SolverError
 from ..numerics.genalpha import scheme_coefficients
-from ..rigid_body import ROW_TOW, angular_kinematics, rotation
+from ..rigid_body import angular_kinematics, hanging_coordinates
 from ..scene.model import Scene
 from ..ship_input import motion_source
 from ..simulation_driver import SimulationDriver
@@ -97,8 +97,7 @@ class NodalSimulation(SimulationDriver):
         arc = np.concatenate([[0.0], np.cumsum(m.L0)])
         nodes = (st.q[:3] + arc[:, None] * self._direction).ravel()
         if m.rigid.enabled:  # the tow point on the last node, the body at its initial attitude
-            cg = nodes[-3:] - rotation(*self._attitude) @ m.rigid.axes[ROW_TOW]
-            nodes = np.concatenate([nodes[:-3], cg, self._attitude])
+            nodes = np.concatenate([nodes[:-3], hanging_coordinates(m.rigid, nodes[-3:], self._attitude)])
         st.q[:] = nodes
         prescribe_top(m, *drive, t0, st.q, st.v, st.x)
         cfg = self._statics_settings
