@@ -59,13 +59,19 @@ class AxialElement:
 
     def force(self, x):
         f = np.zeros(12)
-        energy = axial_force(x, 0, self.L, self.ea, self.tension_only, self.work, f)
+        energy, _ = axial_force(x, 0, self.L, self.ea, self.tension_only, self.work, f)
         return f, energy
 
     def tangent(self, x):
         k = np.zeros((12, 12))
         axial_tangent(x, 0, self.L, self.ea, self.tension_only, self.work, 1.0, k)
         return k
+
+    def taut(self, x):
+        """The taut Gauss points' bit masks the force and the tangent report."""
+        f, k = np.zeros(12), np.zeros((12, 12))
+        return (axial_force(x, 0, self.L, self.ea, self.tension_only, self.work, f)[1],
+                axial_tangent(x, 0, self.L, self.ea, self.tension_only, self.work, 1.0, k))
 
     def strain(self, x, xi):
         dn = element.shape_derivatives(np.array([xi]), 1.0)
@@ -91,6 +97,24 @@ def test_axial_force_is_gradient_of_energy_and_tangent_is_its_jacobian(tension_o
     kfd = np.array([(el.force(x + h * e)[0] - el.force(x - h * e)[0]) / (2 * h) for e in np.eye(12)]).T
     np.testing.assert_allclose(k, kfd, rtol=1e-5, atol=1e-6 * np.abs(k).max())
     np.testing.assert_allclose(k, k.T, atol=1e-9 * np.abs(k).max())
+
+
+def test_taut_points_are_those_in_tension():
+    """The bit masks of the taut Gauss points (what Newton compares between the residual
+    and the matrix) mark exactly the points of positive strain; an element that takes
+    compression reports none."""
+    rng = np.random.default_rng(5)
+    gx, _ = element.gauss_legendre(5)
+    slack = AxialElement(2.0, 1e5, tension_only=True)
+    elastic = AxialElement(2.0, 1e5, tension_only=False)
+    seen = set()
+    for _ in range(40):
+        x = _random_element(rng, 2.0) * rng.uniform(0.97, 1.03)
+        expected = sum(1 << g for g, xi in enumerate(gx) if slack.strain(x, xi) >= 0.0)
+        assert slack.taut(x) == (expected, expected)
+        assert elastic.taut(x) == (0, 0)
+        seen.add(expected)
+    assert len(seen) > 2  # slack, taut and partly taut elements were drawn
 
 
 def test_uniform_stretch_gives_green_strain_and_end_forces():

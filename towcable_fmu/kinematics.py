@@ -43,6 +43,20 @@ def _axis_rotations(roll: float, pitch: float, yaw: float):
     return rz, ry, rx, drz, dry, drx, ddrz, ddry, ddrx
 
 
+@njit(cache=True, inline="always")
+def _add_product(a: np.ndarray, b: np.ndarray, c: np.ndarray, scale: float, out: np.ndarray) -> None:
+    """out += scale * a @ b @ c for 3 x 3 matrices (loops: no BLAS call, no temporary)."""
+    for i in range(3):
+        for j in range(3):
+            acc = 0.0
+            for k in range(3):
+                ab = 0.0
+                for m in range(3):
+                    ab += a[i, m] * b[m, k]
+                acc += ab * c[k, j]
+            out[i, j] += scale * acc
+
+
 @njit(cache=True)
 def rotation_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
     """Body-to-inertial rotation R = Rz(yaw) Ry(pitch) Rx(roll), W(24)-(25).
@@ -57,7 +71,9 @@ def rotation_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
     ndarray, shape (3, 3)
     """
     rz, ry, rx, _, _, _, _, _, _ = _axis_rotations(roll, pitch, yaw)
-    return rz @ ry @ rx
+    r = np.zeros((3, 3))
+    _add_product(rz, ry, rx, 1.0, r)
+    return r
 
 
 @njit(cache=True)
@@ -78,17 +94,24 @@ def rotation_derivatives(ship: np.ndarray):
     wr, wp, wy = ship[1, 3], ship[1, 4], ship[1, 5]
     ar, ap, ay = ship[2, 3], ship[2, 4], ship[2, 5]
     rz, ry, rx, drz, dry, drx, ddrz, ddry, ddrx = _axis_rotations(roll, pitch, yaw)
-    # time derivatives of the three factors
-    rz1 = drz * wy
-    ry1 = dry * wp
-    rx1 = drx * wr
-    rz2 = ddrz * wy * wy + drz * ay
-    ry2 = ddry * wp * wp + dry * ap
-    rx2 = ddrx * wr * wr + drx * ar
-    r = rz @ ry @ rx
-    r1 = rz1 @ ry @ rx + rz @ ry1 @ rx + rz @ ry @ rx1
-    r2 = (rz2 @ ry @ rx + rz @ ry2 @ rx + rz @ ry @ rx2
-          + 2.0 * (rz1 @ ry1 @ rx + rz1 @ ry @ rx1 + rz @ ry1 @ rx1))
+    r = np.zeros((3, 3))
+    r1 = np.zeros((3, 3))
+    r2 = np.zeros((3, 3))
+    _add_product(rz, ry, rx, 1.0, r)
+    # first derivative: one factor differentiated, times its angle's rate
+    _add_product(drz, ry, rx, wy, r1)
+    _add_product(rz, dry, rx, wp, r1)
+    _add_product(rz, ry, drx, wr, r1)
+    # second derivative: one factor twice (rate squared) or once (its acceleration), or two factors once
+    _add_product(ddrz, ry, rx, wy * wy, r2)
+    _add_product(drz, ry, rx, ay, r2)
+    _add_product(rz, ddry, rx, wp * wp, r2)
+    _add_product(rz, dry, rx, ap, r2)
+    _add_product(rz, ry, ddrx, wr * wr, r2)
+    _add_product(rz, ry, drx, ar, r2)
+    _add_product(drz, dry, rx, 2.0 * wy * wp, r2)
+    _add_product(drz, ry, drx, 2.0 * wy * wr, r2)
+    _add_product(rz, dry, drx, 2.0 * wp * wr, r2)
     return r, r1, r2
 
 

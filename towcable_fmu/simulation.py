@@ -49,7 +49,8 @@ def solver_options(scene: Scene) -> genalpha.SolverOptions:
     return genalpha.SolverOptions(h_max=s.time_step, rho_inf=s.rho_inf, adaptive=s.adaptive, rtol=s.rtol,
                                   atol=s.atol, newton_tol=s.newton_tol, max_iter=s.max_newton_iterations,
                                   jac_max_age=s.jacobian_max_age, h_min=s.min_time_step,
-                                  winch_kp=0.0 if w is None else w.kp, winch_kd=0.0 if w is None else w.kd)
+                                  winch_kp=0.0 if w is None else w.kp, winch_kd=0.0 if w is None else w.kd,
+                                  locate_events=s.locate_events)
 
 
 class Simulation(SimulationDriver):
@@ -92,13 +93,16 @@ class Simulation(SimulationDriver):
         self.compensation = None  # the set-point algorithm, built at initialisation
         if self._compensation_table is not None:
             compensation_config(self._compensation_table, 0.0)  # validate the table now, before any computation
-        self.state = genalpha.new_state(self.model.free_idx.size)
+        self.state = genalpha.new_state(self.model)
         self.workspace = genalpha.new_workspace(self.model)
         self._statics: dict[str, float] = {}
         self.turbulence: TurbulenceSeries | None = None
         self._setpoint = (0.0, 0.0)
         self._initialized = False
         self._last_outputs: dict[str, float] = {}
+        #: all outputs at the state a step reached, recorded by the step's own kernel call
+        #: (one call from Python per FMU step instead of two), with the state's fingerprint
+        self._stepped: tuple[tuple, np.ndarray] | None = None
         rigid = bool(self.model.terms.rigid_link.enabled)
         #: The outputs this scene has (names in docs/design.md), see :meth:`outputs`.
         self.layout = OutputLayout(towbody=scene.towbody is not None, winch=scene.winch is not None,
@@ -142,6 +146,7 @@ class Simulation(SimulationDriver):
         """
         ship0 = self.motion.evaluate(t0) if ship is None else ship
         check_ship_state(ship0)
+        self._stepped = None
         if setpoint is not None:
             self._setpoint = setpoint
         st = self.state
@@ -221,6 +226,7 @@ class Simulation(SimulationDriver):
         q = self._checked_coordinates(q, "q")
         v = np.zeros_like(q) if v is None else self._checked_coordinates(v, "v")
         st = self.state
+        self._stepped = None
         st.q[:] = q
         st.v[:] = v
         t = self.time
@@ -389,16 +395,28 @@ class Simulation(SimulationDriver):
 
     def _output_array(self) -> np.ndarray:
         """All fields of :data:`~towcable_fmu.output_kernel.OUTPUT_FIELDS` (NaN: not in the scene)."""
+        if self._stepped is not None and self._stepped[0] == self._fingerprint():
+            return self._stepped[1]
         rows = np.empty((1, len(OUTPUT_FIELDS)))
         advance_recording(self.model, self.options, self.state, self.workspace, np.array([self.time]), *_NO_DRIVE,
                           Recording(self.output_scene, _ALL_OUTPUTS, rows, False, False, self.time))
         return rows[0]
 
     def _step_to(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> int:
-        """genalpha.advance to t_end (through advance_recording, recording nothing); the solver status."""
+        """genalpha.advance to t_end through advance_recording, which also records all outputs
+        there (kept for :meth:`_output_array`; not with wake oscillators, whose coupling
+        changes the loads after the step); the solver status."""
+        keep = self.viv is None
+        rows = np.empty((1, len(OUTPUT_FIELDS))) if keep else _NO_ROWS
         reached = advance_recording(self.model, self.options, self.state, self.workspace, np.array([t_end]),
-                                    *drive, Recording(self.output_scene, _NO_OUTPUTS, _NO_ROWS, False, False, t_end))
+                                    *drive, Recording(self.output_scene, _ALL_OUTPUTS if keep else _NO_OUTPUTS,
+                                                      rows, False, False, t_end))
+        self._stepped = (self._fingerprint(), rows[0]) if keep and reached == 1 else None
         return genalpha.OK if reached == 1 else genalpha.FAILED_MIN_STEP
+
+    def _fingerprint(self) -> tuple:
+        """What identifies the state a step reached: its time and the solver counters."""
+        return float(self.state.clock[genalpha.CLOCK_TIME]), self.state.stats.tobytes()
 
     def _load_outputs(self) -> dict[str, float]:
         """Swing angle of the rigid load and the force the cable exerts on it."""
@@ -533,6 +551,7 @@ class Simulation(SimulationDriver):
             self.viv.set_state(data["viv"])
 
     def _restored(self) -> None:
+        self._stepped = None
         self._cover(self.time)
         genalpha.refactorize_from_state(self.model, self.options, self.state, self.workspace)
 

@@ -122,8 +122,9 @@ def axial_force(x: np.ndarray, base: int, length: float, ea: float, tension_only
 
     Returns
     -------
-    float
-        Strain energy U of the element [J].
+    (float, int)
+        Strain energy U of the element [J]; for a tension-only element the bit mask of the
+        Gauss points that carry force (bit g: point g is taut), else 0.
     """
     d, gw, u = work.d, work.gw, work.u
     a0, s, a1 = _kinematics(x, base, d, length, gw, work.lam, u)
@@ -131,11 +132,14 @@ def axial_force(x: np.ndarray, base: int, length: float, ea: float, tension_only
     cs = 0.0
     c1 = 0.0
     energy = 0.0
+    taut = 0
     for g in range(d.shape[0]):
         ld = d[g, 1] * a0 + d[g, 2] * s + d[g, 3] * a1
         eps = 0.5 * (ld * ld - 1.0)
-        if tension_only and eps < 0.0:
-            continue
+        if tension_only:
+            if eps < 0.0:
+                continue
+            taut |= 1 << g
         wl = gw[g] * length
         energy += 0.5 * ea * wl * eps * eps
         k = wl * eps * ld
@@ -156,14 +160,14 @@ def axial_force(x: np.ndarray, base: int, length: float, ea: float, tension_only
             wi = w * d[g, i]
             for k in range(3):
                 f[3 * i + k] += wi * u[g, k]
-    return energy
+    return energy, taut
 
 
 @njit(cache=True)
 def axial_tangent(x: np.ndarray, base: int, length: float, ea: float, tension_only: bool, work: AxialWork,
-                  scale: float, kmat: np.ndarray) -> None:
+                  scale: float, kmat: np.ndarray) -> int:
     """Tangent stiffness dQ_l/dx of :func:`axial_force`, times ``scale``, added to ``kmat`` (12, 12)
-    (arguments as :func:`axial_force`)."""
+    (arguments as :func:`axial_force`); returns the taut points' bit mask as :func:`axial_force` does."""
     d, gw, lam, u, grad, first, hess = work.d, work.gw, work.lam, work.u, work.grad, work.first, work.hess
     a0, s, a1 = _kinematics(x, base, d, length, gw, lam, u)
     ng = d.shape[0]
@@ -182,11 +186,14 @@ def axial_tangent(x: np.ndarray, base: int, length: float, ea: float, tension_on
     # first and second derivatives of U/EA with respect to (a0, s, a1)
     first[:] = 0.0
     hess[:, :] = 0.0
+    taut = 0
     for g in range(ng):
         ld = d[g, 1] * a0 + d[g, 2] * s + d[g, 3] * a1
         eps = 0.5 * (ld * ld - 1.0)
-        if tension_only and eps < 0.0:
-            continue
+        if tension_only:
+            if eps < 0.0:
+                continue
+            taut |= 1 << g
         wl = gw[g] * length
         k1 = wl * eps * ld
         k2 = wl * (ld * ld + eps)
@@ -221,6 +228,7 @@ def axial_tangent(x: np.ndarray, base: int, length: float, ea: float, tension_on
                         for m in range(3):
                             delta = 1.0 if k == m else 0.0
                             kmat[3 * i + k, 3 * j + m] += wij * (delta - u[g, k] * u[g, m])
+    return taut
 
 
 @njit(cache=True)

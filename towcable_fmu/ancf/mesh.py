@@ -130,7 +130,7 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
         att_kind=np.array([a[1] for a in att], dtype=np.int64),
         att_vec=np.array([a[2] for a in att], dtype=float).reshape(-1, 3),
         att_radius=np.array([winch_radius(scene) if kind == WINCH_POINT else 0.0 for _, kind, _ in att]),
-        water=build_water(scene), gravity=g, terms=(),
+        water=build_water(scene), gravity=g, terms=(), el_taut=np.zeros((2, ne), dtype=np.int64),
     )
     return model._replace(terms=build_terms(scene, mesh, model))
 

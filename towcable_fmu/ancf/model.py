@@ -77,6 +77,15 @@ class CableModel(NamedTuple):
     water: WaterModel           #: water, current and turbulence (``enabled`` False: dry scene)
     gravity: float              #: g [m/s^2]
     terms: tuple                #: the force terms, a ``forces.ForceTerms`` (empty while the model is built)
+    #: (2, ne) int64: the Gauss points where a tension-only element is taut, a bit mask per
+    #: element, as the last residual (row ``TAUT_RESIDUAL``) and the last iteration matrix
+    #: (row ``TAUT_MATRIX``) saw them: Newton refactorises where the two differ
+    el_taut: np.ndarray
+
+
+#: rows of ``CableModel.el_taut``
+TAUT_RESIDUAL = 0
+TAUT_MATRIX = 1
 
 
 class Motion(NamedTuple):

@@ -94,28 +94,25 @@ def apply_prescribed(att_index: np.ndarray, att_kind: np.ndarray, att_vec: np.nd
                 q[i0 + c] = vec[c]
                 v[i0 + c] = 0.0
                 a[i0 + c] = 0.0
-        elif kind == SHIP_POINT:
-            p0 = r @ vec
-            p1 = r1 @ vec
-            p2 = r2 @ vec
+        elif kind == SHIP_POINT or kind == SHIP_SLOPE:
+            base = 1.0 if kind == SHIP_POINT else 0.0  # a point moves with the ship's CG, a slope only turns
             for c in range(3):
-                q[i0 + c] = ship[0, c] + p0[c]
-                v[i0 + c] = ship[1, c] + p1[c]
-                a[i0 + c] = ship[2, c] + p2[c]
-        elif kind == SHIP_SLOPE:
-            p0 = r @ vec
-            p1 = r1 @ vec
-            p2 = r2 @ vec
-            for c in range(3):
-                q[i0 + c] = p0[c]
-                v[i0 + c] = p1[c]
-                a[i0 + c] = p2[c]
+                p0 = p1 = p2 = 0.0
+                for j in range(3):
+                    p0 += r[c, j] * vec[j]
+                    p1 += r1[c, j] * vec[j]
+                    p2 += r2[c, j] * vec[j]
+                q[i0 + c] = base * ship[0, c] + p0
+                v[i0 + c] = base * ship[1, c] + p1
+                a[i0 + c] = base * ship[2, c] + p2
         else:  # WINCH_POINT
             s = drum_point(vec, att_radius[k], phi)
-            p0 = r @ s[0]
-            p1 = r1 @ s[0] + r @ s[1]
-            p2 = r2 @ s[0] + 2.0 * (r1 @ s[1]) + r @ s[2]
             for c in range(3):
-                q[i0 + c] = ship[0, c] + p0[c]
-                v[i0 + c] = ship[1, c] + p1[c]
-                a[i0 + c] = ship[2, c] + p2[c]
+                p0 = p1 = p2 = 0.0
+                for j in range(3):
+                    p0 += r[c, j] * s[0, j]
+                    p1 += r1[c, j] * s[0, j] + r[c, j] * s[1, j]
+                    p2 += r2[c, j] * s[0, j] + 2.0 * r1[c, j] * s[1, j] + r[c, j] * s[2, j]
+                q[i0 + c] = ship[0, c] + p0
+                v[i0 + c] = ship[1, c] + p1
+                a[i0 + c] = ship[2, c] + p2

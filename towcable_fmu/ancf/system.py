@@ -21,7 +21,7 @@ from ..kernel_cache import njit
 from ..numerics.banded import band_add_block
 from .axial import at_length, axial_force, axial_tangent, axial_work
 from .forces import add_residuals, add_tangents
-from .model import CableModel, Motion
+from .model import TAUT_MATRIX, TAUT_RESIDUAL, CableModel, Motion
 
 
 @njit(cache=True, inline="always")
@@ -86,7 +86,9 @@ def residual_span(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
         length = model.el_len[e]
         at_length(work, length)
         fe[:] = 0.0
-        energy += axial_force(q, base, length, model.el_ea[e], model.el_tension_only[e], work, fe)
+        u, taut = axial_force(q, base, length, model.el_ea[e], model.el_tension_only[e], work, fe)
+        energy += u
+        model.el_taut[TAUT_RESIDUAL, e] = taut
         for i in range(12):
             out[base + i] += fe[i]
     for n in range(first, stop + 1):
@@ -128,7 +130,8 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
                     ke[3 * i + c, 3 * j + c] = val
         length = model.el_len[e]
         at_length(work, length)
-        axial_tangent(q, base, length, model.el_ea[e], model.el_tension_only[e], work, cq, ke)
+        model.el_taut[TAUT_MATRIX, e] = axial_tangent(q, base, length, model.el_ea[e], model.el_tension_only[e],
+                                                      work, cq, ke)
         band_add_block(ab, model.kl, model.ku, model.free_idx, base, ke)
     off = model.kl + model.ku
     nn = model.node_mass.shape[0]

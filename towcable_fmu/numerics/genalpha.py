@@ -25,6 +25,14 @@ steps after consecutive misses (at most ``MAX_BACKOFF``), halved by every succes
 reuse. A cable sliding over a rolling sheave changes its contact set every step and
 settles at a fresh matrix per step; a cable without contact keeps one for a hundred.
 
+At the kink of a tension-only law (``compression = false``) a matrix from the other side
+of the kink sends modified Newton into a 2-cycle (the slack point's zero stiffness) or a
+crawl (the taut point's): the residual and the matrix report the Gauss points they saw
+taut (``CableModel.el_taut``), and the matrix is refactorised at the current iterate
+where they differ (semi-smooth Newton). A step in which a tension-only element went
+taut or slack is taken again, shortened to end just past that instant
+(:func:`~towcable_fmu.ancf.slack.crossing_fraction`, ``locate_events``).
+
 Convergence test (Hairer & Wanner): the estimated remaining error
 ``theta/(1-theta) * |dq|`` is below ``newton_tol``, with the contraction rate theta of
 the previous step used on the first iteration; ``|dq|`` is the largest correction
@@ -32,7 +40,8 @@ with positions divided by the adjacent element length (a strain-like, scale-free
 measure: the tension error it allows is about EA * newton_tol).
 
 Local error estimate (Zienkiewicz & Xie): ``e = h^2 |beta - 1/6| |abar_{n+1} - abar_n|``,
-weighted by ``atol + rtol |q|``; it drives the step size in adaptive mode and is
+weighted by ``atol + rtol l`` for a position (l: its element's length) and ``rtol + atol``
+for a slope; it drives the step size in adaptive mode and is
 reported as a statistic otherwise. A step whose Newton iteration fails is retried
 with a fresh Jacobian, then with half the step; below ``min_time_step`` the call
 returns a failure code and leaves the state at the last accepted step.
@@ -51,7 +60,8 @@ import numpy as np
 
 from ..kernel_cache import njit
 from ..ancf.prescribed import apply_prescribed
-from ..ancf.model import CableModel
+from ..ancf.model import TAUT_MATRIX, TAUT_RESIDUAL, CableModel
+from ..ancf.slack import crossing_fraction
 from ..ancf.system import iteration_matrix, residual
 from ..drive import evaluate_drive
 from .arrays import copy_into
@@ -97,6 +107,14 @@ THETA_REFRESH = 0.5
 THETA_REUSE = 0.1
 #: longest run of steps that factorise afresh after reused matrices kept failing
 MAX_BACKOFF = 16.0
+#: refactorisations within one step because tension-only points went slack or taut
+MAX_SWITCH_REFRESH = 4
+#: a step in which a tension-only element went taut or slack before this fraction of it is
+#: taken again, shortened to end just past that instant (by EVENT_OVERSHOOT of the new step)
+EVENT_LAND = 0.9
+EVENT_OVERSHOOT = 0.02
+#: the shortest such step, as a fraction of the step it replaces
+EVENT_MIN_FRACTION = 0.02
 
 
 class SolverOptions(NamedTuple):
@@ -113,6 +131,7 @@ class SolverOptions(NamedTuple):
     h_min: float
     winch_kp: float
     winch_kd: float
+    locate_events: bool
 
 
 class IntegratorState(NamedTuple):
@@ -129,6 +148,7 @@ class IntegratorState(NamedTuple):
     jac_v: np.ndarray    #: (nf,) velocities at which the Jacobian was evaluated
     jac_ship: np.ndarray  #: (3, 6) ship state at which the Jacobian was evaluated
     stats: np.ndarray    #: (6,) int64 counters (see STAT_NAMES)
+    taut: np.ndarray     #: (ne,) int64 taut Gauss points of the tension-only elements (bit masks) at the clock's time
 
 
 class Workspace(NamedTuple):
@@ -152,11 +172,13 @@ class Workspace(NamedTuple):
     ships: np.ndarray    #: (3, 6)
 
 
-def new_state(nf: int) -> IntegratorState:
-    """A zero integrator state for ``nf`` coordinates."""
+def new_state(model: CableModel) -> IntegratorState:
+    """A zero integrator state for ``model``."""
+    nf = model.free_idx.shape[0]
     return IntegratorState(np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(4), np.zeros(4),
                            np.zeros(7), np.zeros(nf), np.zeros(nf), np.zeros((3, 6)),
-                           np.zeros(len(STAT_NAMES), dtype=np.int64))
+                           np.zeros(len(STAT_NAMES), dtype=np.int64),
+                           np.zeros(model.el_len.shape[0], dtype=np.int64))
 
 
 def new_workspace(model: CableModel) -> Workspace:
@@ -244,6 +266,7 @@ def initial_acceleration(model: CableModel, opt: SolverOptions, st: IntegratorSt
                      st.q, st.v, st.a)
     st.a[model.free_dofs] = 0.0
     residual(model, st.q, st.v, st.a, t, ws.ship, ws.r)
+    st.taut[:] = model.el_taut[TAUT_RESIDUAL]
     n = model.free_dofs.shape[0]
     ws.dx[:] = -ws.r[model.free_dofs]
     if not np.all(np.isfinite(ws.dx)):
@@ -258,6 +281,16 @@ def initial_acceleration(model: CableModel, opt: SolverOptions, st: IntegratorSt
     st.phi[3] = st.phi[2]
     st.clock[CLOCK_TIME] = t
     return True
+
+
+@njit(cache=True, inline="always")
+def _switched(model):
+    """True where the last residual saw a tension-only point slack that the matrix saw taut, or the reverse."""
+    taut = model.el_taut
+    for e in range(taut.shape[1]):
+        if taut[TAUT_RESIDUAL, e] != taut[TAUT_MATRIX, e]:
+            return True
+    return False
 
 
 @njit(cache=True, inline="always")
@@ -305,11 +338,22 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
     prev = 0.0
     theta = 0.0  # contraction rate of the current factorisation (0: not measured yet)
     since = 0    # iterations with the current factorisation
+    switches = 0  # refactorisations for points of the tension-only law that went slack or taut
     converged = False
     for it in range(opt.max_iter):
         residual(model, st.q, st.v, st.a, t1, ws.ship, ws.r)
         st.stats[STAT_RESIDUALS] += 1
         st.stats[STAT_NEWTON] += 1
+        if switches < MAX_SWITCH_REFRESH and _switched(model):
+            # the law's kink lies between the matrix and the iterate: a matrix with the other
+            # side's stiffness sends modified Newton into a 2-cycle or a crawl; refactorise here
+            switches += 1
+            reused = False
+            if not _factorize(model, opt, st, ws, t1, h, am, af, gamma, beta):
+                return STEP_NOT_CONVERGED
+            since = 0
+            theta = 0.0
+            eta = 1.0
         finite = True
         for i in range(n):
             ws.dx[i] = -ws.r[model.free_dofs[i]]
@@ -364,12 +408,14 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
     if theta > THETA_REUSE:
         # the matrix is not accurate enough to be reused: refresh it at the next step
         st.jac[JAC_AGE] = opt.jac_max_age
-    # local error estimate (Zienkiewicz-Xie), weighted max norm over free coordinates
+    # local error estimate (Zienkiewicz-Xie), weighted max norm over free coordinates: a
+    # position against atol + rtol times its element's length, a slope against rtol + atol
     c = h * h * abs(beta - 1.0 / 6.0)
     err = 0.0
     for i in range(n):
         k = model.free_dofs[i]
-        e = c * abs(st.abar[k] - ws.abar0[k]) / (opt.atol + opt.rtol * abs(st.q[k]))
+        w = model.free_scale[i]
+        e = c * abs(st.abar[k] - ws.abar0[k]) * w / (opt.rtol + opt.atol * w)
         err = max(err, e)
     st.clock[CLOCK_ERROR] = err
     if opt.adaptive and err > 1.0:
@@ -433,16 +479,30 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
         copy_into(ws.a0, st.a)
         copy_into(ws.abar0, st.abar)
         copy_into(ws.phi0, st.phi)
-        for attempt in range(2):  # (one call site of the inlined _try_step)
+        retried = False  # with a fresh Jacobian
+        located = False  # the step was shortened to end at a tension-only element's kink
+        while True:  # (one call site of the inlined _try_step)
             status = _try_step(model, opt, st, ws, h_try, drive_t, drive_x, am, af, gamma, beta)
-            if attempt == 1 or not (status == STEP_NOT_CONVERGED and st.jac[JAC_AGE] > 0.0):
-                break
-            # stale Jacobian: retry the same step with a fresh one
-            _restore(st, ws)
-            st.jac[JAC_VALID] = 0.0
-            st.jac[JAC_ETA] = 1.0
+            if status == STEP_NOT_CONVERGED and st.jac[JAC_AGE] > 0.0 and not retried:
+                # stale Jacobian: retry the same step with a fresh one
+                _restore(st, ws)
+                st.jac[JAC_VALID] = 0.0
+                st.jac[JAC_ETA] = 1.0
+                retried = True
+                continue
+            if status == STEP_ACCEPTED and opt.locate_events and not located:
+                s_event = crossing_fraction(model, ws.q0, st.q, st.taut, model.el_taut[TAUT_RESIDUAL])
+                if s_event < EVENT_LAND:
+                    # an element went taut or slack inside the step: end the step just past it
+                    _restore(st, ws)
+                    st.clock[CLOCK_TIME] = t
+                    h_try *= max(s_event * (1.0 + EVENT_OVERSHOOT), EVENT_MIN_FRACTION)
+                    located = True
+                    continue
+            break
         if status == STEP_ACCEPTED:
             ws.step_start[0] = t
+            copy_into(st.taut, model.el_taut[TAUT_RESIDUAL])
             st.stats[STAT_STEPS] += 1
             st.clock[CLOCK_STEPS_SINCE_CUT] += 1.0
             if opt.adaptive:

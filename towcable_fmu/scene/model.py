@@ -409,8 +409,11 @@ class SolverSettings:
     rho_inf: float = spec(0.8, unit="-", ge=0.0, le=1.0,
                           doc="spectral radius at infinite frequency (1: no numerical damping)")
     adaptive: bool = spec(False, doc="adapt the step to keep the local error estimate below rtol/atol")
-    rtol: float = spec(1e-3, unit="-", gt=0.0, lt=1.0, doc="relative local error tolerance (adaptive mode)")
-    atol: float = spec(1e-4, unit="m", gt=0.0, doc="absolute local error tolerance (adaptive mode)")
+    rtol: float = spec(1e-5, unit="-", gt=0.0, lt=1.0,
+                       doc="local error tolerance of a step (adaptive mode): a position's error against atol + rtol "
+                           "times its element's length (a strain-like measure, independent of where the origin "
+                           "is), a slope's against rtol + atol per metre")
+    atol: float = spec(1e-6, unit="m", gt=0.0, doc="absolute local error tolerance of a position (adaptive mode)")
     newton_tol: float = spec(1e-8, unit="-", gt=0.0, le=1e-2,
                              doc="Newton stops when the estimated remaining correction (positions relative "
                                  "to the element length, slopes absolute) is below this; the tension error "
@@ -420,6 +423,8 @@ class SolverSettings:
                                           "Jacobian, then half the step)")
     jacobian_max_age: int = spec(100, unit="-", ge=1, doc="steps a factorised Jacobian may be reused")
     min_time_step: float = spec(1e-7, unit="s", gt=0.0, doc="a step that fails below this size is an error")
+    locate_events: bool = spec(True, doc="a step in which a tension-only element (compression = false) goes taut "
+                                         "or slack is taken again, shortened to end at that instant (ANCF cable)")
 
 
 @dataclasses.dataclass(frozen=True)
