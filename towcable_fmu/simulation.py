@@ -384,7 +384,10 @@ class Simulation(SimulationDriver):
         the cable exerts on the body (its mass times acceleration minus its other forces).
         The latest are kept: a rigorous compensation measures the sheave angle in them.
         """
-        self._last_outputs = super().outputs()
+        return super().outputs()
+
+    def _named(self, row: np.ndarray) -> dict[str, float]:
+        self._last_outputs = super()._named(row)
         return self._last_outputs
 
     def _output_row(self) -> np.ndarray:

@@ -101,6 +101,8 @@ class SimulationDriver:
     _initialized: bool = False
     #: The statics' figures of the last initialisation (``solver.statics_*``).
     _statics: dict[str, float]
+    #: Buffers of the last :meth:`_snapshot` (reused: a step is a co-simulation's hot path).
+    _snapshot_buffers: list[np.ndarray] | None = None
 
     # ------------------------------------------------------------ construction
     @classmethod
@@ -127,7 +129,11 @@ class SimulationDriver:
 
     def outputs(self) -> dict[str, float]:
         """The outputs at the current state, keyed by :attr:`output_names`."""
-        return {"time": self.time, **dict(zip(self.names, self._output_row().tolist()))}
+        return self._named(self._output_row())
+
+    def _named(self, row: np.ndarray) -> dict[str, float]:
+        """The outputs of the current state from their row (the order of ``names``)."""
+        return {"time": self.time, **dict(zip(self.names, row.tolist()))}
 
     # -------------------------------------------------------------------- time
     def initialize(self, t0: float = 0.0, ship: np.ndarray | None = None,
@@ -206,13 +212,13 @@ class SimulationDriver:
         saved = self._snapshot()
         try:
             advance()
-            out = self.outputs()
-            if not all(math.isfinite(v) for v in out.values()):
+            row = self._output_row()
+            if not np.isfinite(row).all():
                 raise SolverError(f"non-finite outputs at t = {self.time:.6g} s")
         except SolverError:
             self._restore(saved)
             raise
-        return out
+        return self._named(row)
 
     def _drive(self, marks: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
         """Drive table of the scene's ship motion (``self.motion``) through the times
@@ -312,7 +318,15 @@ class SimulationDriver:
         """Called after the arrays were written back (e.g. to refactorise)."""
 
     def _snapshot(self) -> tuple[list[np.ndarray], dict[str, Any]]:
-        return [np.copy(x) for x in self._state_arrays()], self._extra_state()
+        """The state arrays (copied into buffers kept for the next snapshot: a step is the
+        hot path of a co-simulation) and the extra state."""
+        arrays = self._state_arrays()
+        buffers = self._snapshot_buffers
+        if buffers is None or len(buffers) != len(arrays) or any(b.shape != x.shape for b, x in zip(buffers, arrays)):
+            buffers = self._snapshot_buffers = [np.empty_like(x) for x in arrays]
+        for b, x in zip(buffers, arrays):
+            np.copyto(b, x)
+        return buffers, self._extra_state()
 
     def _restore(self, saved: tuple[list[np.ndarray], dict[str, Any]]) -> None:
         arrays, extra = saved
