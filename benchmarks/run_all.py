@@ -6,11 +6,12 @@ core (hanging cable), hydro (kernel costs, statics), full_scale (work-precision 
 ship motion), snapping (ours and the peers MoorDyn and Exudyn, if installed), profile
 (where the time goes, scene by scene), cosim (the three FMUs, FMU overhead),
 fmu_start (TowCable's instantiate + initialise, warm and cold), sea_trial_turn
-(the nodal cable with a rigid towed body through a turn, run time against error) and
+(the nodal cable with a rigid towed body through a turn, run time against error),
+defaults (every built-in scene's default solver settings against its efficient front) and
 first_run (the command line's first run: compiling on every core against one).
 
 Run from the repository root: ``pip install ".[bench]" && python benchmarks/run_all.py``
-(about 20 minutes). ``--only NAME ...`` runs a subset.
+(about 30 minutes). ``--only NAME ...`` runs a subset.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from pathlib import Path
 HERE = Path(__file__).parent
 SCRIPTS = {"core": "core.py", "hydro": "hydro.py", "full_scale": "full_scale.py", "snapping": "snapping.py",
            "profile": "profile_scenes.py", "cosim": "cosim.py", "fmu_start": "fmu_start.py",
-           "sea_trial_turn": "sea_trial_turn.py", "first_run": "first_run.py"}
+           "sea_trial_turn": "sea_trial_turn.py", "defaults": "defaults.py", "first_run": "first_run.py"}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -55,7 +55,10 @@ def axial_force(m: NodalModel, e: int, q: np.ndarray, v: np.ndarray) -> tuple:
     i = 3 * e
     dx, dy, dz = q[i + 3] - q[i], q[i + 4] - q[i + 1], q[i + 5] - q[i + 2]
     length = math.sqrt(dx * dx + dy * dy + dz * dz)
-    ux, uy, uz = dx / length, dy / length, dz / length
+    # an element collapsed to a point (a diverging Newton iterate) has no direction: NaN,
+    # which rejects the step (the compiled division would raise ZeroDivisionError instead)
+    inv = 1.0 / length if length > 0.0 else math.nan
+    ux, uy, uz = dx * inv, dy * inv, dz * inv
     l0 = m.L0[e]
     eps = length / l0 - 1.0
     eps_rate = (ux * (v[i + 3] - v[i]) + uy * (v[i + 4] - v[i + 1]) + uz * (v[i + 5] - v[i + 2])) / l0
