@@ -339,6 +339,7 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
     theta = 0.0  # contraction rate of the current factorisation (0: not measured yet)
     since = 0    # iterations with the current factorisation
     switches = 0  # refactorisations for points of the tension-only law that went slack or taut
+    refresh = False  # refactorise at the current iterate before the next solve
     converged = False
     for it in range(opt.max_iter):
         residual(model, st.q, st.v, st.a, t1, ws.ship, ws.r)
@@ -346,8 +347,11 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
         st.stats[STAT_NEWTON] += 1
         if switches < MAX_SWITCH_REFRESH and _switched(model):
             # the law's kink lies between the matrix and the iterate: a matrix with the other
-            # side's stiffness sends modified Newton into a 2-cycle or a crawl; refactorise here
+            # side's stiffness sends modified Newton into a 2-cycle or a crawl
             switches += 1
+            refresh = True
+        if refresh:
+            refresh = False
             reused = False
             if not _factorize(model, opt, st, ws, t1, h, am, af, gamma, beta):
                 return STEP_NOT_CONVERGED
@@ -388,12 +392,7 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
                 # and factorise afresh for the next steps (twice as many as after the last miss)
                 st.jac[JAC_BACKOFF] = min(2.0 * st.jac[JAC_BACKOFF] + 1.0, MAX_BACKOFF)
                 st.jac[JAC_SKIP] = st.jac[JAC_BACKOFF]
-                reused = False
-                if not _factorize(model, opt, st, ws, t1, h, am, af, gamma, beta):
-                    return STEP_NOT_CONVERGED
-                since = 0
-                theta = 0.0
-                eta = 1.0
+                refresh = True
                 continue
             if theta >= 1.0:
                 break  # diverging with a fresh matrix: the caller retries with a smaller step
