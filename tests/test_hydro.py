@@ -12,7 +12,8 @@ from scipy.optimize import brentq
 
 from reference import steady_tow as ref_tow
 from towcable_fmu.ancf.system import iteration_matrix, residual
-from towcable_fmu.hydro.loading import BARE, FAIRED, SUN_BARE, SUN_FAIRED, drag_coefficient, loading_functions
+from towcable_fmu.hydro.loading import (BARE, FAIRED, SUN_BARE, SUN_FAIRED, drag_coefficient, drag_coefficient_slope,
+                                        loading_functions, loading_slopes)
 from towcable_fmu.hydro.turbulence import TurbulenceSeries
 from towcable_fmu.scene import scene_from_table
 from towcable_fmu.scene.model import Turbulence
@@ -89,6 +90,34 @@ def test_drag_coefficient_hand_values_and_continuity():
     re = np.exp(np.linspace(np.log(0.2), np.log(200.0), 20001))
     cd = np.array([drag_coefficient(r) for r in re])
     assert np.max(np.abs(np.diff(cd)) / cd[:-1]) < 2e-3
+
+
+def test_drag_coefficient_slope_matches_central_differences_in_log_re():
+    """Re dC_D/dRe against central differences of C_D in log Re over all three branches and
+    both blends (Re 2e-3 to 1e5; the blends' edges, where the slope jumps, left out)."""
+    edges = np.log([1.0 / 1.1, 1.1, 30.0 / 1.1, 30.0 * 1.1])
+    x = np.linspace(np.log(2e-3), np.log(1e5), 2001)
+    x = x[np.min(np.abs(x[:, None] - edges[None, :]), axis=1) > 1e-3]
+    hx = 1e-6
+    for xi in x:
+        fd = (drag_coefficient(math.exp(xi + hx)) - drag_coefficient(math.exp(xi - hx))) / (2 * hx)
+        assert drag_coefficient_slope(math.exp(xi)) == pytest.approx(fd, rel=1e-6, abs=1e-9)
+    assert drag_coefficient_slope(1e-4) == 0.0  # C_D is held constant below RE_MIN
+
+
+@pytest.mark.parametrize("kind", [BARE, FAIRED, SUN_BARE, SUN_FAIRED])
+def test_loading_slopes_match_central_differences_in_the_flow_angle(kind):
+    """(df_n/deta, df_t/deta) against central differences of the loading functions over
+    0 < eta < 90 deg (the faired nodal-position functions' break at 30 deg left out)."""
+    h = 1e-6
+    for eta in np.linspace(0.01, math.pi / 2 - 0.01, 300):
+        if kind == SUN_FAIRED and abs(eta - math.pi / 6) < 0.01:
+            continue
+        plus = loading_functions(kind, math.cos(eta + h), math.sin(eta + h))
+        minus = loading_functions(kind, math.cos(eta - h), math.sin(eta - h))
+        slopes = loading_slopes(kind, math.cos(eta), math.sin(eta))
+        for s, p, m in zip(slopes, plus, minus):
+            assert s == pytest.approx((p - m) / (2 * h), rel=1e-6, abs=1e-8)
 
 
 # ----------------------------------------------------------------- steady towing
@@ -392,6 +421,98 @@ def test_newton_with_the_assembled_jacobian_converges(scene):
     assert norms[4] < 1e-3 * norms[0]
 
 
+def _band_to_dense(ab, kl, ku, n):
+    """The n x n matrix held in LAPACK band storage (towcable_fmu.numerics.banded)."""
+    a = np.zeros((n, n))
+    for j in range(n):
+        i = np.arange(max(0, j - ku), min(n, j + kl + 1))
+        a[i, j] = ab[kl + ku + i - j, j]
+    return a
+
+
+@pytest.mark.parametrize("scene, t_run, h", [("full_scale", 0.5, 0.05), ("snapping_cable", 0.05, 5e-4),
+                                             ("flume", 0.1, 2e-3)])
+def test_iteration_matrix_water_part_matches_central_differences_of_the_residual(scene, t_run, h):
+    """In a running scene, the part of the iteration matrix ``M + cv C + cq K`` that the water
+    adds (the matrix minus that of the same state with the water disabled: cable and body
+    hydrodynamics) against central differences of the residual's water part.
+    full_scale: bare and faired cable, C_D(Re), G = 3.54, a cable crossing the surface;
+    snapping_cable: constant C_D; flume: a current varying with depth, turbulence.
+
+    * As Newton uses it: a + da, v + cv da, q + cq da with the integrator's weights at
+      step h (cv = h/2, cq = h^2/4) and a position change of 1e-8 m (smaller and round-off
+      dominates), at the state's own accelerations: to 1e-6 of the largest entry.
+    * Part by part, which the sum cannot resolve (in snapping_cable cq K is 1e-8 of M):
+      M (a + da), C (v + 1e-7 m/s), K (q + 1e-7), to 1e-6 of each part's largest entry,
+      K to 1e-5: snapping_cable's K is small (a unit in the last place of the body's 120 N
+      weight over the step is 3e-6 of it) and its flow runs exactly along the cable, the
+      drag's kink, where the differences converge only linearly (3e-6 of K at 1e-7).
+      K at a = 0: the tangent leaves out how the added-mass force -rho A C_m (a - (a.u) u)
+      turns with the cable (its added-mass matrix is exact); at the running accelerations
+      that changes K by up to 70 % in snapping_cable but the matrix by < 1e-8 (the first
+      check).
+
+    Left out: the K entries of an element crossing the surface (crossing_stiffness
+    differentiates the wet length but not the load at the moving crossing point: up to
+    4 % of K's largest entry) and, in the depth-varying current, the body's rows (its
+    tangent, hydro/towbody.py, leaves out the depth derivative of the current).
+    """
+    sim = Simulation.from_scene(scene)
+    sim.initialize()
+    sim.run(t_run)
+    m = sim.model
+    dry = m._replace(water=m.water._replace(enabled=False))
+    q0, v0, a0 = sim.state.q.copy(), sim.state.v.copy(), sim.state.a.copy()
+    t, ship = sim.time, sim.workspace.ship.copy()
+    cv, cq = 0.5 * h, 0.25 * h * h
+    free = m.free_dofs
+    n = free.size
+
+    def water_matrix(weights):
+        out = []
+        for model in (m, dry):
+            ab = np.zeros((2 * m.kl + m.ku + 1, n))
+            iteration_matrix(model, q0, v0, t, ship, *weights, ab)
+            out.append(_band_to_dense(ab, m.kl, m.ku, n))
+        return out[0] - out[1]
+
+    def water_residual(q, v, a):
+        wet, without = np.zeros_like(q), np.zeros_like(q)
+        residual(m, q, v, a, t, ship, wet)
+        residual(dry, q, v, a, t, ship, without)
+        return (wet - without)[free]
+
+    def differences(dq, dv, da, a):
+        fd = np.empty((n, n))
+        for j, k in enumerate(free):
+            e = np.zeros_like(q0)
+            e[k] = 1.0
+            fd[:, j] = (water_residual(q0 + dq * e, v0 + dv * e, a + da * e)
+                        - water_residual(q0 - dq * e, v0 - dv * e, a - da * e)) / 2.0
+        return fd
+
+    z = q0[2:6 * m.el_len.size + 3:6] - m.water.surface_z
+    crossing = np.zeros(n, dtype=bool)
+    for e in np.flatnonzero(z[:-1] * z[1:] < 0.0):
+        crossing |= (free >= 6 * e) & (free < 6 * e + 12)
+    rows = np.ones(n, dtype=bool)
+    if m.water.current_kind == CURRENT_LINEAR:
+        rows &= (free < m.terms.towbody.index) | (free >= m.terms.towbody.index + 3)
+    everywhere = rows[:, None] & np.ones(n, dtype=bool)
+    away_from_crossing = everywhere & ~crossing[:, None] & ~crossing[None, :]
+
+    da = 1e-8 / cq
+    checks = [((1.0, cv, cq), differences(cq * da, cv * da, da, a0) / da, away_from_crossing),
+              ((1.0, 0.0, 0.0), differences(0.0, 0.0, 1.0, a0), everywhere),
+              ((0.0, 1.0, 0.0), differences(0.0, 1e-7, 0.0, a0) / 1e-7, everywhere),
+              ((0.0, 0.0, 1.0), differences(1e-7, 0.0, 0.0, np.zeros_like(a0)) / 1e-7, away_from_crossing)]
+    for (weights, fd, where), rtol in zip(checks, (1e-6, 1e-6, 1e-6, 1e-5)):
+        scale = np.abs(fd[where]).max()
+        assert scale > 0.0
+        error = np.abs(water_matrix(weights) - fd)[where].max()
+        assert error < rtol * scale, (weights, error / scale)
+
+
 # ----------------------------------------------------------------- point kernel: G and flow acceleration
 # These tests call the per-point kernel `towcable_fmu.hydro.cable.point_load` with a
 # WaterModel built here, and compare with W(58) evaluated independently below from the
@@ -592,3 +713,160 @@ def test_flow_acceleration_generalised_force_of_an_element():
     gen_n = gen.reshape(4, 3) - np.outer(gen.reshape(4, 3) @ U_CAB, U_CAB)
     expected = np.array([f * length / 2, f * slope_w, f * length / 2, -f * slope_w])
     np.testing.assert_allclose(gen_n, expected, rtol=1e-10, atol=1e-12)
+
+
+# ----------------------------------------------------------------- exact tangent of the drag and the point load
+# `drag_jacobian` and `point_tangent` (the iteration matrix's derivatives of the point load)
+# against central differences of `drag` and `point_load`.
+from towcable_fmu.hydro.cable import drag, drag_jacobian, point_tangent  # noqa: E402
+
+#: Flow angles closer than this to a kink of the drag are left out of the comparisons with
+#: central differences [rad]: at eta = 0 (flow along the cable: the drag is a cone in V_n)
+#: and 90 deg (flow across: f_n has a kink in V_t, the tangential drag jumps), and at the
+#: 30 deg break of the faired nodal-position functions; near them the difference quotient's
+#: truncation error (the curvature grows as 1/margin) is no test of the derivative.
+KINK_MARGIN = 0.01
+
+
+def _sphere_directions(rng, n):
+    x = rng.standard_normal((n, 3))
+    return x / np.linalg.norm(x, axis=1)[:, None]
+
+
+def _flow_angle(rel, u):
+    vt = rel @ u
+    return math.atan2(np.linalg.norm(rel - vt * u), abs(vt))
+
+
+def _near_kink(kind, eta):
+    return (eta < KINK_MARGIN or eta > math.pi / 2 - KINK_MARGIN
+            or (kind == SUN_FAIRED and abs(eta - math.pi / 6) < KINK_MARGIN))
+
+
+def _drag_at(kind, cd, rel, u):
+    return np.array(drag(RHO, MU_W, kind, D_CAB, cd, *map(float, rel), *map(float, u)))
+
+
+def _drag_jac_at(kind, cd, rel, u):
+    f, dv, du = drag_jacobian(RHO, MU_W, kind, D_CAB, cd, *map(float, rel), *map(float, u))
+    return np.array(f), np.array(dv).reshape(3, 3), np.array(du).reshape(3, 3)
+
+
+def _drag_central_differences(kind, cd, rel, u):
+    """df/dV and df/du (I - u u^T) by central differences (u moved on the unit sphere)."""
+    hv = 1e-6 * np.linalg.norm(rel)
+    hu = 1e-6
+    dv = np.empty((3, 3))
+    du = np.empty((3, 3))
+    for k in range(3):
+        e = np.eye(3)[k]
+        dv[:, k] = (_drag_at(kind, cd, rel + hv * e, u) - _drag_at(kind, cd, rel - hv * e, u)) / (2 * hv)
+        up = (u + hu * e) / np.linalg.norm(u + hu * e)
+        um = (u - hu * e) / np.linalg.norm(u - hu * e)
+        du[:, k] = (_drag_at(kind, cd, rel, up) - _drag_at(kind, cd, rel, um)) / (2 * hu)
+    return dv, du @ (np.eye(3) - np.outer(u, u))
+
+
+@pytest.mark.parametrize("kind", [BARE, FAIRED, SUN_BARE, SUN_FAIRED])
+@pytest.mark.parametrize("cd", [0.0, 1.2])
+def test_drag_jacobian_matches_central_differences(kind, cd):
+    """Over random relative flows (random direction, 1e-3 to 5 m/s: Re from 25, across all
+    branches of C_D(Re)) and cable directions, the exact derivatives agree with central
+    differences of the drag to 1e-5 (the truncation error of the differences; states
+    within KINK_MARGIN of a kink left out)."""
+    rng = np.random.default_rng(11 + kind)
+    speeds = 10.0 ** rng.uniform(-3.0, math.log10(5.0), 300)
+    rels = _sphere_directions(rng, 300) * speeds[:, None]
+    dirs = _sphere_directions(rng, 300)
+    checked = 0
+    for rel, u in zip(rels, dirs):
+        if _near_kink(kind, _flow_angle(rel, u)):
+            continue
+        f, dv, du = _drag_jac_at(kind, cd, rel, u)
+        np.testing.assert_allclose(f, _drag_at(kind, cd, rel, u), rtol=0.0, atol=1e-13 * np.linalg.norm(f))
+        dv_fd, du_fd = _drag_central_differences(kind, cd, rel, u)
+        scale = np.linalg.norm(f)
+        assert np.abs(dv - dv_fd).max() < 1e-5 * max(np.abs(dv_fd).max(), scale / np.linalg.norm(rel))
+        assert np.abs(du - du_fd).max() < 1e-5 * max(np.abs(du_fd).max(), scale)
+        checked += 1
+    assert checked > 250
+
+
+@pytest.mark.parametrize("kind", [BARE, FAIRED])
+@pytest.mark.parametrize("cd", [0.0, 1.2])
+def test_drag_jacobian_at_the_kinks_is_finite_and_the_mean_of_the_derivatives_around(kind, cd):
+    """No flow: zero (the drag is quadratic there). Flow exactly across the cable: the mean of
+    the derivatives on either side of the kink. Flow exactly along it: finite; with a
+    constant C_D and f_n(0) = 0 (bare) the mean of the derivatives around the cable."""
+    u = U_CAB
+    e1 = np.cross(u, [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(u, e1)
+    f, dv, du = _drag_jac_at(kind, cd, np.zeros(3), u)
+    assert not f.any() and not dv.any() and not du.any()
+
+    across = 0.8 * e1 + 0.3 * e2
+    delta = 1e-7
+    f, dv, du = _drag_jac_at(kind, cd, across, u)
+    sides = [_drag_jac_at(kind, cd, across + s * delta * u, u) for s in (1.0, -1.0)]
+    np.testing.assert_allclose(dv, 0.5 * (sides[0][1] + sides[1][1]), rtol=0, atol=1e-5 * np.abs(dv).max())
+    np.testing.assert_allclose(du, 0.5 * (sides[0][2] + sides[1][2]), rtol=0, atol=1e-5 * np.abs(du).max())
+
+    along = -1.3 * u
+    f, dv, du = _drag_jac_at(kind, cd, along, u)
+    assert np.all(np.isfinite(dv)) and np.all(np.isfinite(du))
+    assert np.abs(dv).max() > 0.0
+    if kind == BARE and cd > 0.0:
+        around = [_drag_jac_at(kind, cd, along + delta * e, u) for e in (e1, -e1, e2, -e2)]
+        np.testing.assert_allclose(dv, np.mean([j[1] for j in around], axis=0), rtol=0,
+                                   atol=1e-5 * np.abs(dv).max())
+        np.testing.assert_allclose(du, np.mean([j[2] for j in around], axis=0), rtol=0,
+                                   atol=1e-5 * np.abs(du).max())
+
+
+@pytest.mark.parametrize("kind", [BARE, FAIRED])
+@pytest.mark.parametrize("cd", [0.0, 1.2])
+def test_point_tangent_matches_central_differences_of_the_point_load(kind, cd):
+    """The load and its derivatives with respect to the point velocity, the slope (any
+    length) and the height, in a linearly depth-dependent current with turbulence (the
+    Froude-Krylov term depends on the direction) and amplified mean drag, against central
+    differences of point_load without added mass (states near a kink of either the
+    relative or the mean flow left out)."""
+    rng = np.random.default_rng(5 + kind)
+    code, v0, grad = CURRENTS["linear"]
+    w = _water(code, v0, grad, turb=rng.normal(0.0, 0.3, (12, 3)), turb_dt=0.5)
+    section = Section(int(kind), D_CAB, AREA, float(cd), 2.2, 1.0)
+    t = 2.3
+    zero = (0.0, 0.0, 0.0)
+
+    def load(rz, p, v):
+        return np.array(point_load(w, section, t, float(rz), tuple(map(float, p)), tuple(map(float, v)), zero))
+
+    vel, acc = np.empty(3), np.empty(3)
+    checked = 0
+    for _ in range(100):
+        rz = -rng.uniform(1.0, 30.0)
+        p = _sphere_directions(rng, 1)[0] * rng.uniform(0.5, 2.0)
+        u = p / np.linalg.norm(p)
+        flow(w, rz, t, vel, acc)
+        rel = _sphere_directions(rng, 1)[0] * 10.0 ** rng.uniform(-3.0, math.log10(5.0))
+        v = vel - rel
+        mean = np.array(v0) + np.array(grad) * rz
+        if _near_kink(kind, _flow_angle(rel, u)) or _near_kink(kind, _flow_angle(mean, u)):
+            continue
+        f, dv, dp, dz = (np.array(x) for x in point_tangent(w, section, t, rz, tuple(p), tuple(v)))
+        np.testing.assert_allclose(f, load(rz, p, v), rtol=0.0, atol=1e-13 * np.linalg.norm(f))
+        dv = dv.reshape(3, 3)
+        dp = dp.reshape(3, 3)
+        hv = 1e-6 * np.linalg.norm(rel)
+        hp = 1e-6 * np.linalg.norm(p)
+        hz = 1e-6 * min(np.linalg.norm(rel), np.linalg.norm(mean)) / np.linalg.norm(grad)
+        dv_fd = np.column_stack([(load(rz, p, v + hv * e) - load(rz, p, v - hv * e)) / (2 * hv) for e in np.eye(3)])
+        dp_fd = np.column_stack([(load(rz, p + hp * e, v) - load(rz, p - hp * e, v)) / (2 * hp) for e in np.eye(3)])
+        dz_fd = (load(rz + hz, p, v) - load(rz - hz, p, v)) / (2 * hz)
+        drag_scale = np.linalg.norm(_drag_at(kind, cd, rel, u)) + np.linalg.norm(_drag_at(kind, cd, mean, u))
+        assert np.abs(dv - dv_fd).max() < 1e-5 * max(np.abs(dv_fd).max(), drag_scale / np.linalg.norm(rel))
+        assert np.abs(dp - dp_fd).max() < 1e-5 * max(np.abs(dp_fd).max(), np.linalg.norm(f) / np.linalg.norm(p))
+        assert np.abs(dz - dz_fd).max() < 1e-5 * max(np.abs(dz_fd).max(), 1e-12)
+        checked += 1
+    assert checked > 80

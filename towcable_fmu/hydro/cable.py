@@ -18,6 +18,10 @@ Per unit length at a submerged point (relative flow ``V = V_f - rdot``, docs/des
   acceleration only) appears in the residual with the point acceleration and in the
   iteration matrix as the added-mass matrix W(74).
 
+The iteration matrix differentiates the other loads exactly (:func:`drag_jacobian`,
+:func:`point_tangent`), with the mean of the one-sided derivatives where the drag has a
+kink (flow along or across the cable).
+
 Quadrature: the segment's ``N_I`` equally spaced points with trapezoidal weights; an
 interval that crosses the waterline contributes the trapezoid between its submerged
 point and the crossing (found by linear interpolation of the height), W(78)-(80),
@@ -37,10 +41,12 @@ import numpy as np
 
 from ..kernel_cache import njit
 from ..ancf.partial import active_quadrature, crossing_stiffness, hermite, interpolate
-from .loading import drag_coefficient, loading_functions
+from .loading import drag_coefficient, drag_coefficient_slope, loading_functions, loading_slopes
 from .water import CURRENT_LINEAR, WaterModel, mean_flow, turbulence
 
 _TINY = 1e-12
+_ZERO3 = (0.0, 0.0, 0.0)
+_ZERO9 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 class CableHydro(NamedTuple):
@@ -94,6 +100,127 @@ def drag(rho: float, mu: float, kind: int, d: float, cd_fixed: float, vx: float,
     return fx, fy, fz
 
 
+@njit(cache=True, inline="always")
+def _span_matrix(c: float, cuu: float, chu: float, chh: float, cuh: float, ux: float, uy: float, uz: float,
+                 hx: float, hy: float, hz: float) -> tuple:
+    """The 3x3 matrix ``c I + (cuu u + chu h) u^T + (chh h + cuh u) h^T``, row-major (9-tuple)."""
+    rx, ry, rz = cuu * ux + chu * hx, cuu * uy + chu * hy, cuu * uz + chu * hz
+    sx, sy, sz = chh * hx + cuh * ux, chh * hy + cuh * uy, chh * hz + cuh * uz
+    return (c + rx * ux + sx * hx, rx * uy + sx * hy, rx * uz + sx * hz,
+            ry * ux + sy * hx, c + ry * uy + sy * hy, ry * uz + sy * hz,
+            rz * ux + sz * hx, rz * uy + sz * hy, c + rz * uz + sz * hz)
+
+
+@njit(cache=True, inline="always")
+def _combine(a: float, x: tuple, b: float, y: tuple) -> tuple:
+    """``a x + b y`` for two 3x3 matrices, row-major (9-tuples)."""
+    return (a * x[0] + b * y[0], a * x[1] + b * y[1], a * x[2] + b * y[2],
+            a * x[3] + b * y[3], a * x[4] + b * y[4], a * x[5] + b * y[5],
+            a * x[6] + b * y[6], a * x[7] + b * y[7], a * x[8] + b * y[8])
+
+
+# A plain kernel as drag (two calls per point).
+@njit(cache=True)
+def drag_jacobian(rho: float, mu: float, kind: int, d: float, cd_fixed: float, vx: float, vy: float, vz: float,
+                  ux: float, uy: float, uz: float) -> tuple:
+    """The drag of :func:`drag` and its exact derivatives.
+
+    With the relative flow ``V = V_t u + V_n h`` (``h`` the unit normal flow direction),
+    the drag is ``A V_n h + B u`` with ``A = q C_D(Re_n) f_n / V_n`` and
+    ``B = q C_D(Re) f_t sign(V_t)``, ``q = rho d |V|^2 / 2``; f_n, f_t depend on the flow
+    angle eta = atan2(V_n, |V_t|). Both derivatives lie in span{I, u u^T, h u^T, h h^T, u h^T}.
+
+    Parameters
+    ----------
+    rho, mu
+        Water density [kg/m^3] and viscosity [Pa s].
+    kind, d, cd_fixed
+        Loading functions, diameter [m] and constant C_D (0: C_D(Re)), as :func:`drag`.
+    vx, vy, vz
+        Relative flow V [m/s].
+    ux, uy, uz
+        Unit cable direction u.
+
+    Returns
+    -------
+    tuple
+        ``(f, df/dV, df/du)``: the drag per unit length f [N/m] (3-tuple), its derivative
+        with respect to V [N s/m^2] and with respect to the direction u on the unit sphere,
+        ``df/du (I - u u^T)`` [N/m] (9-tuples, row-major). Divide the latter by |p| for the
+        derivative with respect to a slope p of direction u.
+
+    Notes
+    -----
+    Where the drag is not differentiable, the derivative is the mean of the one-sided
+    ones, and always finite:
+
+    * flow across the cable (V_t = 0): f_n has a kink in V_t and the tangential drag
+      jumps by ``2 q C_D f_t(90 deg)`` (non-zero for the faired cable): the continuous
+      part of the derivative only (the terms with sign(V_t) drop out);
+    * flow along the cable (V_n <= 1e-12 |V|, where :func:`drag` drops the normal term):
+      the drag is a cone in V_n; the mean over the directions h around the cable drops
+      the terms in h, and the normal term's factor is its limit
+      ``A = q C_D(Re_n -> 0) f_n'(0) / |V|`` (with C_D(Re), the coefficient held at
+      ``RE_MIN``: the exact derivative for V_n below about 1e-7 m/s, and large; the
+      faired W(145) has f_n(0) = 9e-6 instead of 0, a jump left out);
+    * no flow (V = 0): zero (the drag is quadratic in V there, C_D being held constant
+      below ``RE_MIN``).
+    """
+    speed2 = vx * vx + vy * vy + vz * vz
+    if speed2 <= 0.0:
+        return _ZERO3, _ZERO9, _ZERO9
+    speed = math.sqrt(speed2)
+    vt = vx * ux + vy * uy + vz * uz
+    nx = vx - vt * ux
+    ny = vy - vt * uy
+    nz = vz - vt * uz
+    vn = math.sqrt(nx * nx + ny * ny + nz * nz)
+    cos_eta = min(abs(vt) / speed, 1.0)
+    sin_eta = min(vn / speed, 1.0)
+    fn, ft = loading_functions(kind, cos_eta, sin_eta)
+    dfn, dft = loading_slopes(kind, cos_eta, sin_eta)
+    qd = 0.5 * rho * d * speed2
+    sign = 0.0 if abs(vt) <= _TINY * speed else (1.0 if vt > 0.0 else -1.0)
+    if vn > _TINY * speed:
+        re_n = rho * d * vn / mu
+        cdn = cd_fixed if cd_fixed > 0.0 else drag_coefficient(re_n)
+        # dA = 2 A d|V|/|V| + (A_c - A) dV_n/V_n + q C_D f_n' deta/V_n (A_c from C_D(Re_n)) with
+        # deta/dV = (|V_t| h - V_n sign u)/|V|^2, so that V_n h (dA/dV)^T = h (a_u u + a_h h)^T
+        a_c = 0.0 if cd_fixed > 0.0 else qd * fn * drag_coefficient_slope(re_n) / vn
+        hx = nx / vn
+        hy = ny / vn
+        hz = nz / vn
+        a = qd * cdn * fn / vn
+        e = qd * cdn * dfn / speed2
+        a_u = 2.0 * a * vn * vt / speed2 - e * vn * sign
+        a_h = 2.0 * a * vn * vn / speed2 + a_c - a + e * abs(vt)
+        # d/du on the sphere: dV_n = -V_t h.du, deta = -sign h.du
+        a_uh = -(a_c - a) * vt - sign * qd * cdn * dfn
+    else:
+        hx = 0.0
+        hy = 0.0
+        hz = 0.0
+        cdn = cd_fixed if cd_fixed > 0.0 else drag_coefficient(0.0)
+        a = qd * cdn * dfn / speed
+        a_u = 0.0
+        a_h = 0.0
+        a_uh = 0.0
+    re_t = rho * d * speed / mu
+    cdt = cd_fixed if cd_fixed > 0.0 else drag_coefficient(re_t)
+    cdt_slope = 0.0 if cd_fixed > 0.0 else drag_coefficient_slope(re_t)
+    b = qd * cdt * ft * sign
+    b_s = sign * ft * qd * (2.0 * cdt + cdt_slope) / speed2  # dB/dV from |V| and Re: b_s V
+    b_eta = qd * cdt * dft  # dB/dV from eta: b_eta (V_t h - V_n u)/|V|^2 (sign^2 = 1: continuous at V_t = 0)
+    b_u = b_s * vt - b_eta * vn / speed2
+    b_h = b_s * vn + b_eta * vt / speed2
+    an = a * vn
+    force = (an * hx + b * ux, an * hy + b * uy, an * hz + b * uz)
+    dv = _span_matrix(a, b_u - a, a_u, a_h, b_h, ux, uy, uz, hx, hy, hz)
+    # d(A n)/du = -A (V_t I + u V^T) and d(B u)/du = B I - b_eta u h^T, projected
+    du = _span_matrix(b - a * vt, a * vt - b, 0.0, a_uh, -(an + b_eta), ux, uy, uz, hx, hy, hz)
+    return force, dv, du
+
+
 class Section(NamedTuple):
     """The hydrodynamic properties of one cable element's cross-section."""
 
@@ -112,18 +239,22 @@ def element_section(hy: CableHydro, e: int) -> Section:
 
 
 @njit(cache=True, inline="always")
+def _direction(p: tuple) -> tuple:
+    """Unit vector (3 floats) along the slope ``p`` (3-tuple, any length) and its length."""
+    px, py, pz = p
+    lp = max(math.sqrt(px * px + py * py + pz * pz), _TINY)
+    return px / lp, py / lp, pz / lp, lp
+
+
+@njit(cache=True, inline="always")
 def point_load(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v: tuple, a: tuple) -> tuple:
     """Hydrodynamic load per unit length [N/m] at a submerged point of height ``rz`` [m],
     slope ``p`` (3-tuple, any length), velocity ``v`` [m/s] and acceleration ``a`` [m/s^2]
     (3-tuples; pass a = 0 to leave out the added mass) at time ``t`` [s]."""
     kind, d, area, cd, g_amp, cm = section
-    px, py, pz = p
     vx, vy, vz = v
     ax, ay, az = a
-    lp = max(math.sqrt(px * px + py * py + pz * pz), _TINY)
-    ux = px / lp
-    uy = py / lp
-    uz = pz / lp
+    ux, uy, uz, lp = _direction(p)
     mx, my, mz = mean_flow(w, rz)
     tx, ty, tz, afx, afy, afz = turbulence(w, t)
     fx, fy, fz = drag(w.density, w.viscosity, kind, d, cd, mx + tx - vx, my + ty - vy, mz + tz - vz, ux, uy, uz)
@@ -142,6 +273,54 @@ def point_load(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v
     fy += k_fk * (afy - afu * uy) - k_am * (ay - au * uy)
     fz += k_fk * (afz - afu * uz) - k_am * (az - au * uz)
     return fx, fy, fz
+
+
+@njit(cache=True, inline="always")
+def point_tangent(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v: tuple) -> tuple:
+    """The load of :func:`point_load` without the added mass (a = 0) and its exact derivatives.
+
+    Arguments as :func:`point_load`. Returns ``(f, df/dv, df/dp, df/drz)``: the load per unit
+    length f [N/m] (3-tuple), its derivatives with respect to the point velocity [N s/m^2]
+    and the slope p [N/m] (9-tuples, row-major), and with respect to the height [N/m^2]
+    (3-tuple; zero unless the current varies with depth). The drag's derivatives are
+    :func:`drag_jacobian`'s; the added-mass term's dependence on the direction is left out
+    (the added-mass matrix W(74) is the tangent's inertia part)."""
+    kind, d, area, cd, g_amp, cm = section
+    vx, vy, vz = v
+    ux, uy, uz, lp = _direction(p)
+    mx, my, mz = mean_flow(w, rz)
+    tx, ty, tz, afx, afy, afz = turbulence(w, t)
+    (fx, fy, fz), dv, du = drag_jacobian(w.density, w.viscosity, kind, d, cd, mx + tx - vx, my + ty - vy,
+                                         mz + tz - vz, ux, uy, uz)
+    gm = g_amp - 1.0
+    if gm != 0.0:
+        (sx, sy, sz), sdv, sdu = drag_jacobian(w.density, w.viscosity, kind, d, cd, mx, my, mz, ux, uy, uz)
+        fx += gm * sx
+        fy += gm * sy
+        fz += gm * sz
+    else:
+        sdv = _ZERO9
+        sdu = _ZERO9
+    dz = _ZERO3
+    if w.current_kind == CURRENT_LINEAR:  # the relative and the mean flow change with the height alike
+        j = _combine(1.0, dv, gm, sdv)
+        gx, gy, gz = w.current_grad[0], w.current_grad[1], w.current_grad[2]
+        dz = (j[0] * gx + j[1] * gy + j[2] * gz, j[3] * gx + j[4] * gy + j[5] * gz,
+              j[6] * gx + j[7] * gy + j[8] * gz)
+    rho_a = w.density * area
+    fz += rho_a * w.gravity
+    # Froude-Krylov k (a_f - (a_f.u) u): derivative -k ((a_f.u) (I - u u^T) + u a_f,n^T)
+    afu = afx * ux + afy * uy + afz * uz
+    k_fk = rho_a * (cm + 1.0)
+    nfx = afx - afu * ux
+    nfy = afy - afu * uy
+    nfz = afz - afu * uz
+    fx += k_fk * nfx
+    fy += k_fk * nfy
+    fz += k_fk * nfz
+    dfk = _span_matrix(-k_fk * afu, k_fk * afu, 0.0, 0.0, -k_fk, ux, uy, uz, nfx, nfy, nfz)
+    dp = _combine(1.0 / lp, _combine(1.0, du, gm, sdu), 1.0 / lp, dfk)
+    return (fx, fy, fz), _combine(-1.0, dv, 0.0, _ZERO9), dp, dz  # V = V_f - v
 
 
 @njit(cache=True, inline="always")
@@ -211,10 +390,9 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
     """Add element e's hydrodynamic part of ``ca M + cv C + cq K`` to the 12x12 block ``ke``;
     False (nothing added) for a dry element or one without hydrodynamic loads.
 
-    Added mass exactly (W(74)); derivatives of the point load with respect to the point
-    velocity, the cable direction and the depth (depth-dependent current) by finite
-    differences; the stiffness of the moving waterline crossing from the derivative of
-    the wet length.
+    Added mass exactly (W(74)); the exact derivatives of the point load with respect to the
+    point velocity, the cable slope and the height (:func:`point_tangent`); the stiffness
+    of the moving waterline crossing from the derivative of the wet length.
     """
     if not hy.el_on[e]:
         return False
@@ -232,36 +410,22 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
     count = _quadrature(w, q, base, length, npts, xi, wt, g, cross)
     section = element_section(hy, e)
     rho_a_cm = w.density * section.area * section.cm
-    jac = np.zeros((3, 7))  # columns: d/dv (3), d/dp (3), d/dz (zero unless the current varies with depth)
-    depth_varies = w.current_kind == CURRENT_LINEAR
-    pert = np.empty(7)
+    jac = np.empty((3, 7))  # columns: d/dv (3), d/dp (3), d/dz
     for p in range(count):
         wp = wt[p]
         if wp == 0.0:
             continue
         n = hermite(xi[p], length)
-        rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
-        px, py, pz = interpolate(q, base, n[4], n[5], n[6], n[7])
-        vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
-        state = (vx, vy, vz, px, py, pz, rz)
-        # k = -1: the load at the point itself, then one perturbed state per column (a single
-        # call site of the inlined point_load: each site is typed and compiled on its own)
-        for k in range(-1, 7 if depth_varies else 6):
-            for j in range(7):
-                pert[j] = state[j]
-            h = 0.0
-            if k >= 0:
-                h = 1e-7 * max(1.0, abs(state[k]))
-                pert[k] += h
-            f = point_load(w, section, t, pert[6], (pert[3], pert[4], pert[5]), (pert[0], pert[1], pert[2]),
-                           (0.0, 0.0, 0.0))
-            if k < 0:
-                fpt[p, 0], fpt[p, 1], fpt[p, 2] = f
-            else:
-                for c in range(3):
-                    jac[c, k] = (f[c] - fpt[p, c]) / h
-        lp = max(math.sqrt(px * px + py * py + pz * pz), _TINY)
-        u = (px / lp, py / lp, pz / lp)
+        rz = interpolate(q, base, n[0], n[1], n[2], n[3])[2]
+        slope = interpolate(q, base, n[4], n[5], n[6], n[7])
+        f, dv, dp, dz = point_tangent(w, section, t, rz, slope, interpolate(v, base, n[0], n[1], n[2], n[3]))
+        fpt[p, 0], fpt[p, 1], fpt[p, 2] = f
+        for c in range(3):
+            for k in range(3):
+                jac[c, k] = dv[3 * c + k]
+                jac[c, 3 + k] = dp[3 * c + k]
+            jac[c, 6] = dz[c]
+        u = _direction(slope)
         for i in range(4):
             for j in range(4):
                 nn = wp * n[i] * n[j]
@@ -275,5 +439,5 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
         dg = np.zeros((npts, 3))
         dg[:, 2] = -1.0  # g = surface - z
         crossing_stiffness(length, npts, cq, xi, g, dg, cross, fpt, count, ke)
-    hy.calls[0] += 8 * count
+    hy.calls[0] += count
     return True

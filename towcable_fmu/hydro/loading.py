@@ -31,8 +31,8 @@ LOADINGS = {"bare": BARE, "faired": FAIRED, "sun2011_bare": SUN_BARE, "sun2011_f
 #: Smallest Reynolds number at which C_D(Re) is evaluated.
 RE_MIN = 1e-3
 
-# All IR-inlined (inline="always") into their one caller, the plain kernel
-# towcable_fmu.hydro.cable.drag, which is compiled once: calls to them from the point
+# All IR-inlined (inline="always") into their callers, the plain kernels
+# towcable_fmu.hydro.cable.drag and drag_jacobian, each compiled once: calls to them from the point
 # loops would cost run time (a call spills every floating-point value the caller holds).
 # The branch helpers called as kernels would compile a specialisation per literal branch.
 
@@ -68,6 +68,39 @@ def loading_functions(kind: int, cos_eta: float, sin_eta: float) -> tuple[float,
 
 
 @njit(cache=True, inline="always")
+def loading_slopes(kind: int, cos_eta: float, sin_eta: float) -> tuple[float, float]:
+    """(df_n/deta, df_t/deta) [1/rad] of the loading functions ``kind`` (arguments as
+    :func:`loading_functions`).
+
+    At the faired nodal-position function's break (30 deg) the slope is that of the branch
+    :func:`loading_functions` takes there (the upper one). The bare nodal-position f_t is
+    clamped at zero only against rounding at 90 deg (the polynomial is positive below), so
+    its slope is the polynomial's, the one-sided slope at 90 deg.
+    """
+    cos2 = 2.0 * cos_eta * cos_eta - 1.0
+    sin2 = 2.0 * sin_eta * cos_eta
+    if kind == SUN_BARE:
+        return sin2, -0.0239 * sin_eta + 0.02 * cos_eta - 0.002 * sin2
+    if kind == SUN_FAIRED:
+        eta = math.atan2(sin_eta, cos_eta)
+        if eta < math.pi / 6.0:
+            g = 0.273 + 0.827 * eta * eta
+            dg = 1.654 * eta
+        else:
+            g = sin_eta
+            dg = cos_eta
+        return dg * sin_eta + g * cos_eta, dg * cos_eta - g * sin_eta
+    if kind == BARE:
+        eta = math.atan2(sin_eta, cos_eta)
+        dfn = 0.1 * sin_eta + 0.1 * cos_eta + 0.8 * sin2 - 0.22 * cos2
+        dft = 0.01 * (-0.3858 + eta * (3.8318 + eta * (-12.4845 + eta * (14.0256 - 5.9365 * eta))))
+    else:
+        dfn = 0.2499 * sin_eta + 0.2527 * cos_eta + 0.4974 * sin2
+        dft = -0.3417 * sin_eta + 0.255 * cos_eta - 0.1622 * cos2
+    return dfn, dft
+
+
+@njit(cache=True, inline="always")
 def _cd_branch(re: float, branch: int) -> float:
     if branch == 0:
         s = -0.077215665 + math.log(8.0 / re)
@@ -88,15 +121,22 @@ def drag_coefficient(re: float) -> float:
     reference's.
     """
     re = max(re, RE_MIN)
+    k = _re_range(re)
+    return _cd_branch(re, k // 2) if k % 2 == 0 else _blend(re, k // 2)
+
+
+@njit(cache=True, inline="always")
+def _re_range(re: float) -> int:
+    """Where Re lies: 2k on branch k of W(61), 2k + 1 in the blend of branches k and k + 1."""
     if re >= _HI[1]:
-        return 1.1 + 4.0 / math.sqrt(re)
+        return 4
     if re > _LO[1]:
-        return _blend(re, 1)
+        return 3
     if re >= _HI[0]:
-        return _cd_branch(re, 1)
+        return 2
     if re > _LO[0]:
-        return _blend(re, 0)
-    return _cd_branch(re, 0)
+        return 1
+    return 0
 
 
 @njit(cache=True, inline="always")
@@ -104,6 +144,38 @@ def _blend(re: float, k: int) -> float:
     s = (math.log(re) - math.log(_LO[k])) / (math.log(_HI[k]) - math.log(_LO[k]))
     w = s * s * (3.0 - 2.0 * s)
     return (1.0 - w) * _cd_branch(re, k) + w * _cd_branch(re, k + 1)
+
+
+@njit(cache=True, inline="always")
+def _cd_branch_slope(re: float, branch: int) -> float:
+    """Re dC_D/dRe of one branch of W(61)."""
+    if branch == 0:
+        s = -0.077215665 + math.log(8.0 / re)
+        return 8.0 * math.pi / re * (0.87 * (s - 3.0) / s**4 - (s - 1.0) / (s * s))
+    if branch == 1:
+        return -7.695 * re ** -0.9
+    return -2.0 / math.sqrt(re)
+
+
+@njit(cache=True, inline="always")
+def drag_coefficient_slope(re: float) -> float:
+    """Slope of :func:`drag_coefficient` in log Re, ``Re dC_D/dRe`` [-] (0 below ``RE_MIN``,
+    where the coefficient is held constant; at a break point of the blend, the slope of
+    the branch :func:`drag_coefficient` takes there)."""
+    if re < RE_MIN:
+        return 0.0
+    k = _re_range(re)
+    return _cd_branch_slope(re, k // 2) if k % 2 == 0 else _blend_slope(re, k // 2)
+
+
+@njit(cache=True, inline="always")
+def _blend_slope(re: float, k: int) -> float:
+    span = math.log(_HI[k]) - math.log(_LO[k])
+    s = (math.log(re) - math.log(_LO[k])) / span
+    w = s * s * (3.0 - 2.0 * s)
+    dw = 6.0 * s * (1.0 - s) / span  # dw / dlog(Re)
+    return ((1.0 - w) * _cd_branch_slope(re, k) + w * _cd_branch_slope(re, k + 1)
+            + dw * (_cd_branch(re, k + 1) - _cd_branch(re, k)))
 
 
 #: Half-width of the blending zone around each break point (Re = 1 and 30), as a factor on Re.
