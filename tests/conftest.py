@@ -87,3 +87,63 @@ def model_kernels():
     from towcable_fmu.parallel_compile import compile_kernels
 
     assert compile_kernels(KERNEL_SOURCES["ancf"] + KERNEL_SOURCES["nodal_position"]) == []
+
+
+class TermPart:
+    """What one force term adds to the residual and to the iteration matrix of a running
+    simulation, frozen at its current state: the system with the term minus the system
+    ``without`` it (the same model with the term disabled), over the free coordinates.
+
+    For comparing a term's tangent with central differences of its residual.
+    """
+
+    def __init__(self, sim, without) -> None:
+        self.model, self.without = sim.model, without
+        self.q, self.v, self.a = sim.state.q.copy(), sim.state.v.copy(), sim.state.a.copy()
+        self.t, self.ship = sim.time, sim.workspace.ship.copy()
+        self.free = sim.model.free_dofs
+
+    def matrix(self, weights: tuple[float, float, float]):
+        """The term's part of ``ca M + cv C + cq K`` (dense, free coordinates)."""
+        import numpy as np
+
+        from towcable_fmu.ancf.system import iteration_matrix
+
+        m, n = self.model, self.free.size
+        out = []
+        for model in (m, self.without):
+            ab = np.zeros((2 * m.kl + m.ku + 1, n))
+            iteration_matrix(model, self.q, self.v, self.t, self.ship, *weights, ab)
+            dense = np.zeros((n, n))
+            for j in range(n):
+                i = np.arange(max(0, j - m.ku), min(n, j + m.kl + 1))
+                dense[i, j] = ab[m.kl + m.ku + i - j, j]
+            out.append(dense)
+        return out[0] - out[1]
+
+    def residual(self, q, v, a):
+        """The term's part of the residual (free coordinates)."""
+        import numpy as np
+
+        from towcable_fmu.ancf.system import residual
+
+        with_term, without = np.zeros_like(q), np.zeros_like(q)
+        residual(self.model, q, v, a, self.t, self.ship, with_term)
+        residual(self.without, q, v, a, self.t, self.ship, without)
+        return (with_term - without)[self.free]
+
+    def differences(self, dq: float, dv: float, da: float, a=None):
+        """Central differences of the term's residual, each free coordinate moved by dq in
+        position, dv in velocity and da in acceleration together (accelerations ``a``,
+        default the state's); not divided by the step."""
+        import numpy as np
+
+        a = self.a if a is None else a
+        n = self.free.size
+        fd = np.empty((n, n))
+        for j, k in enumerate(self.free):
+            e = np.zeros_like(self.q)
+            e[k] = 1.0
+            fd[:, j] = (self.residual(self.q + dq * e, self.v + dv * e, a + da * e)
+                        - self.residual(self.q - dq * e, self.v - dv * e, a - da * e)) / 2.0
+        return fd

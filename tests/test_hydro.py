@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import cable_scene, segment
+from conftest import TermPart, cable_scene, segment
 from scipy.optimize import brentq
 
 from reference import steady_tow as ref_tow
@@ -421,15 +421,6 @@ def test_newton_with_the_assembled_jacobian_converges(scene):
     assert norms[4] < 1e-3 * norms[0]
 
 
-def _band_to_dense(ab, kl, ku, n):
-    """The n x n matrix held in LAPACK band storage (towcable_fmu.numerics.banded)."""
-    a = np.zeros((n, n))
-    for j in range(n):
-        i = np.arange(max(0, j - ku), min(n, j + kl + 1))
-        a[i, j] = ab[kl + ku + i - j, j]
-    return a
-
-
 @pytest.mark.parametrize("scene, t_run, h", [("full_scale", 0.5, 0.05), ("snapping_cable", 0.05, 5e-4),
                                              ("flume", 0.1, 2e-3)])
 def test_iteration_matrix_water_part_matches_central_differences_of_the_residual(scene, t_run, h):
@@ -461,37 +452,12 @@ def test_iteration_matrix_water_part_matches_central_differences_of_the_residual
     sim.initialize()
     sim.run(t_run)
     m = sim.model
-    dry = m._replace(water=m.water._replace(enabled=False))
-    q0, v0, a0 = sim.state.q.copy(), sim.state.v.copy(), sim.state.a.copy()
-    t, ship = sim.time, sim.workspace.ship.copy()
+    water = TermPart(sim, m._replace(water=m.water._replace(enabled=False)))
     cv, cq = 0.5 * h, 0.25 * h * h
     free = m.free_dofs
     n = free.size
 
-    def water_matrix(weights):
-        out = []
-        for model in (m, dry):
-            ab = np.zeros((2 * m.kl + m.ku + 1, n))
-            iteration_matrix(model, q0, v0, t, ship, *weights, ab)
-            out.append(_band_to_dense(ab, m.kl, m.ku, n))
-        return out[0] - out[1]
-
-    def water_residual(q, v, a):
-        wet, without = np.zeros_like(q), np.zeros_like(q)
-        residual(m, q, v, a, t, ship, wet)
-        residual(dry, q, v, a, t, ship, without)
-        return (wet - without)[free]
-
-    def differences(dq, dv, da, a):
-        fd = np.empty((n, n))
-        for j, k in enumerate(free):
-            e = np.zeros_like(q0)
-            e[k] = 1.0
-            fd[:, j] = (water_residual(q0 + dq * e, v0 + dv * e, a + da * e)
-                        - water_residual(q0 - dq * e, v0 - dv * e, a - da * e)) / 2.0
-        return fd
-
-    z = q0[2:6 * m.el_len.size + 3:6] - m.water.surface_z
+    z = water.q[2:6 * m.el_len.size + 3:6] - m.water.surface_z
     crossing = np.zeros(n, dtype=bool)
     for e in np.flatnonzero(z[:-1] * z[1:] < 0.0):
         crossing |= (free >= 6 * e) & (free < 6 * e + 12)
@@ -502,14 +468,14 @@ def test_iteration_matrix_water_part_matches_central_differences_of_the_residual
     away_from_crossing = everywhere & ~crossing[:, None] & ~crossing[None, :]
 
     da = 1e-8 / cq
-    checks = [((1.0, cv, cq), differences(cq * da, cv * da, da, a0) / da, away_from_crossing),
-              ((1.0, 0.0, 0.0), differences(0.0, 0.0, 1.0, a0), everywhere),
-              ((0.0, 1.0, 0.0), differences(0.0, 1e-7, 0.0, a0) / 1e-7, everywhere),
-              ((0.0, 0.0, 1.0), differences(1e-7, 0.0, 0.0, np.zeros_like(a0)) / 1e-7, away_from_crossing)]
+    checks = [((1.0, cv, cq), water.differences(cq * da, cv * da, da) / da, away_from_crossing),
+              ((1.0, 0.0, 0.0), water.differences(0.0, 0.0, 1.0), everywhere),
+              ((0.0, 1.0, 0.0), water.differences(0.0, 1e-7, 0.0) / 1e-7, everywhere),
+              ((0.0, 0.0, 1.0), water.differences(1e-7, 0.0, 0.0, np.zeros_like(water.a)) / 1e-7, away_from_crossing)]
     for (weights, fd, where), rtol in zip(checks, (1e-6, 1e-6, 1e-6, 1e-5)):
         scale = np.abs(fd[where]).max()
         assert scale > 0.0
-        error = np.abs(water_matrix(weights) - fd)[where].max()
+        error = np.abs(water.matrix(weights) - fd)[where].max()
         assert error < rtol * scale, (weights, error / scale)
 
 

@@ -18,7 +18,7 @@ import numpy as np
 from ..kernel_cache import njit
 from ..ancf.partial import active_quadrature, crossing_stiffness, hermite, interpolate
 from ..kinematics import rotation_derivatives
-from .surfaces import CYLINDER, ContactModel, face_force, groove_exit
+from .surfaces import CYLINDER, ContactModel, face_force, face_tangent, groove_exit
 
 _MARGIN = 1e-3  # [m] added to the reach of a surface when culling elements
 
@@ -77,6 +77,39 @@ def _inertial_force(c: ContactModel, f: int, half_d: float, rot: np.ndarray, rot
     fx, fy, fz, g, energy = face_force(c, f, half_d, sx, sy, sz, wx, wy, wz)
     return (rot[0, 0] * fx + rot[0, 1] * fy + rot[0, 2] * fz, rot[1, 0] * fx + rot[1, 1] * fy + rot[1, 2] * fz,
             rot[2, 0] * fx + rot[2, 1] * fy + rot[2, 2] * fz, g, energy)
+
+
+@njit(cache=True, inline="always")
+def _inertial_tangent(c: ContactModel, f: int, half_d: float, rot: np.ndarray, rot1: np.ndarray, ship: np.ndarray,
+                      rx: float, ry: float, rz: float, vx: float, vy: float, vz: float, jac: np.ndarray,
+                      dg: np.ndarray) -> None:
+    """Derivatives of :func:`_inertial_force`'s force with respect to the inertial position
+    and velocity into ``jac`` (3, 6) [N/m^2, N s/m^2], and the indicator's gradient into
+    ``dg`` (3,).
+
+    With the ship-frame point ``s = R^T (r - r_0) - c`` and velocity
+    ``w = R^T (v - v_0) + Rdot^T (r - r_0)`` and the inertial force ``R f(s, w)``:
+    ``df/dr = R (F_s R^T + F_w Rdot^T)``, ``df/dv = R F_w R^T``, ``dg/dr = R dg/ds``.
+    """
+    sx, sy, sz, wx, wy, wz = _ship_point(c, f, rot, rot1, ship, rx, ry, rz, vx, vy, vz)
+    _, _, fs, fw, gs = face_tangent(c, f, half_d, sx, sy, sz, wx, wy, wz)
+    for i in range(3):
+        dg[i] = rot[i, 0] * gs[0] + rot[i, 1] * gs[1] + rot[i, 2] * gs[2]
+    for a in range(3):
+        for k in range(3):
+            # (F_s R^T + F_w Rdot^T)[a, k] and (F_w R^T)[a, k]
+            pos = 0.0
+            vel = 0.0
+            for b in range(3):
+                pos += fs[3 * a + b] * rot[k, b] + fw[3 * a + b] * rot1[k, b]
+                vel += fw[3 * a + b] * rot[k, b]
+            jac[a, k] = pos
+            jac[a, 3 + k] = vel
+    # rotate the rows: jac <- R jac
+    for k in range(6):
+        c0, c1, c2 = jac[0, k], jac[1, k], jac[2, k]
+        for i in range(3):
+            jac[i, k] = rot[i, 0] * c0 + rot[i, 1] * c1 + rot[i, 2] * c2
 
 
 class Elements(NamedTuple):
@@ -200,9 +233,9 @@ def add_jacobian(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarray,
     ``e`` into ``blocks[e]`` (ne, 12, 12) and ``touched[e]`` True where a face acts on it
     (``blocks[e]`` is written only there; ``touched`` is overwritten).
 
-    Derivatives of the point force with respect to the point position and velocity by
-    finite differences; the stiffness of the moving contact boundary from the derivative
-    of the active length (:func:`towcable_fmu.ancf.partial.crossing_stiffness`).
+    The exact derivatives of the point force with respect to the point position and
+    velocity (:func:`_inertial_tangent`); the stiffness of the moving contact boundary
+    from the derivative of the active length (:func:`towcable_fmu.ancf.partial.crossing_stiffness`).
     """
     el_len, el_d, el_npts = cable
     rot, rot1, _ = rotation_derivatives(ship)
@@ -214,8 +247,7 @@ def add_jacobian(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarray,
     fpt = np.zeros((m, 4))
     dg = np.zeros((m, 3))
     jac = np.empty((3, 6))
-    state = np.empty(6)
-    f0 = np.empty(4)
+    gradient = np.empty(3)
     pts = np.empty((m, 6))
     faces = np.empty(c.face_kind.shape[0], dtype=np.int64)
     for e in range(el_len.shape[0]):
@@ -250,26 +282,9 @@ def add_jacobian(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarray,
                 n = hermite(xi[p], length)
                 rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
                 vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
-                base_state = (rx, ry, rz, vx, vy, vz)
-                # k = -1: the force at the point itself, then one perturbed state per column (a
-                # single call site of the inlined _inertial_force: each site is typed on its own)
-                for k in range(-1, 6):
-                    for j in range(6):
-                        state[j] = base_state[j]
-                    h = 0.0
-                    if k >= 0:
-                        h = 1e-8 * max(1.0, abs(state[k]))
-                        state[k] += h
-                    fk = _inertial_force(c, f, half_d, rot, rot1, ship, state[0], state[1], state[2],
-                                         state[3], state[4], state[5])
-                    if k < 0:
-                        for d in range(4):
-                            f0[d] = fk[d]
-                        continue
-                    for d in range(3):
-                        jac[d, k] = (fk[d] - f0[d]) / h
-                    if k < 3:
-                        dg[p, k] = (fk[3] - f0[3]) / h
+                _inertial_tangent(c, f, half_d, rot, rot1, ship, rx, ry, rz, vx, vy, vz, jac, gradient)
+                for k in range(3):
+                    dg[p, k] = gradient[k]
                 if wp == 0.0:
                     continue
                 for i in range(4):

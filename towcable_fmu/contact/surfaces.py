@@ -59,6 +59,8 @@ RIM = 3
 WINCH = 0
 SHEAVE = 1
 
+_ZERO9 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
 
 class ContactModel(NamedTuple):
     """Contact faces for the kernels (``enabled`` False: nothing to touch)."""
@@ -118,6 +120,14 @@ def groove_exit(c: ContactModel, f: int, h: float, y: float) -> float:
 
 
 @njit(cache=True, inline="always")
+def _polar(c: ContactModel, f: int, half_d: float, x: float, z: float, vx: float, vz: float) -> tuple:
+    """``(1/rho [1/m], e_rho's x and z, h [m], d(rho)/dt [m/s])`` of a point relative to face f."""
+    rho = math.sqrt(x * x + z * z)
+    inv = 1.0 / max(rho, 1e-12)
+    return inv, x * inv, z * inv, rho - (c.face_radius[f] + half_d), (x * vx + z * vz) * inv
+
+
+@njit(cache=True, inline="always")
 def face_force(c: ContactModel, f: int, half_d: float, x: float, y: float, z: float, vx: float, vy: float,
                vz: float) -> tuple:
     """Force per unit length (ship frame) of face f on a cable point, and its indicator.
@@ -140,12 +150,7 @@ def face_force(c: ContactModel, f: int, half_d: float, x: float, y: float, z: fl
         crossing point gets the value of the active side), the indicator g [m] and the
         elastic energy stored per unit length k delta^(n+1) / (n+1) [J/m].
     """
-    rho = math.sqrt(x * x + z * z)
-    inv = 1.0 / max(rho, 1e-12)
-    ex = x * inv
-    ez = z * inv
-    h = rho - (c.face_radius[f] + half_d)
-    rho_dot = (x * vx + z * vz) * inv
+    inv, ex, ez, h, rho_dot = _polar(c, f, half_d, x, z, vx, vz)
     kind = c.face_kind[f]
     if kind == CYLINDER:
         delta = -h
@@ -171,3 +176,82 @@ def face_force(c: ContactModel, f: int, half_d: float, x: float, y: float, z: fl
     elastic = c.face_k[f] * (delta * math.sqrt(delta) if n == 1.5 else delta ** n)
     mag = elastic * max(1.0 + c.face_damping[f] * ddelta, 0.0)
     return mag * nx, mag * ny, mag * nz, g, elastic * delta / (n + 1.0)
+
+
+@njit(cache=True, inline="always")
+def face_tangent(c: ContactModel, f: int, half_d: float, x: float, y: float, z: float, vx: float, vy: float,
+                 vz: float) -> tuple:
+    """The force of :func:`face_force` (ship frame), its indicator and their exact derivatives.
+
+    Arguments as :func:`face_force`.
+
+    Returns
+    -------
+    (force, g, df_dx, df_dv, dg_dx)
+        Force per unit length [N/m] (3-tuple); the indicator g [m]; the force's derivatives
+        with respect to the point's position [N/m^2] and velocity [N s/m^2] (9-tuples,
+        row-major); the indicator's gradient [-] (3-tuple; where g is a minimum, that of
+        the smallest term). Zero force derivatives where the face does not push
+        (delta <= 0), and the damping term's where its bracket is clipped at zero.
+    """
+    inv, ex, ez, h, rho_dot = _polar(c, f, half_d, x, z, vx, vz)
+    # d e_rho/ds = (I - e e^T)/rho in the XZ plane; d rho_dot/ds = (e_z, 0, -e_x) tdot
+    exx, exz, ezz = ez * ez * inv, -ex * ez * inv, ex * ex * inv
+    tdot = (vx * ez - vz * ex) * inv
+    kind = c.face_kind[f]
+    dn = (exx, 0.0, exz, 0.0, 0.0, 0.0, exz, 0.0, ezz)  # d normal / ds, rows x, y, z
+    if kind == WALL_PLUS or kind == WALL_MINUS:
+        ca, sa = c.face_cos[f], c.face_sin[f]
+        sign = 1.0 if kind == WALL_PLUS else -1.0
+        delta = sign * y * ca - h * sa
+        ddelta = sign * vy * ca - rho_dot * sa
+        nx, ny, nz = sa * ex, -sign * ca, sa * ez
+        d_delta = (-sa * ex, sign * ca, -sa * ez)
+        d_rate_dx = (-sa * ez * tdot, 0.0, sa * ex * tdot)
+        d_rate_dv = d_delta
+        dn = (sa * exx, 0.0, sa * exz, 0.0, 0.0, 0.0, sa * exz, 0.0, sa * ezz)
+        top = c.face_depth[f] - (h + delta * sa)
+        g = min(delta, top)
+        dg = d_delta if delta <= top else (-ex - sa * d_delta[0], -sa * d_delta[1], -ez - sa * d_delta[2])
+    else:
+        delta = (c.face_depth[f] if kind == RIM else 0.0) - h
+        ddelta = -rho_dot
+        nx, ny, nz = ex, 0.0, ez
+        d_delta = (-ex, 0.0, -ez)
+        d_rate_dx = (-ez * tdot, 0.0, ex * tdot)
+        d_rate_dv = d_delta
+        g = delta
+        dg = d_delta
+        if kind == RIM:
+            ca, sa = c.face_cos[f], c.face_sin[f]
+            sy = 1.0 if y >= 0.0 else -1.0
+            climbed = wall_contact_height(h, y, ca, sa) - c.face_depth[f]
+            edge = c.face_open[f] + c.face_rim[f] - abs(y)
+            if climbed < g:
+                g = climbed
+                dg = (ex * ca * ca, sy * ca * sa, ez * ca * ca)
+            if edge < g:
+                g = edge
+                dg = (0.0, -sy, 0.0)
+    if delta <= 0.0:
+        return (0.0, 0.0, 0.0), g, _ZERO9, _ZERO9, dg
+    n = c.face_n[f]
+    root = math.sqrt(delta)
+    elastic = c.face_k[f] * (delta * root if n == 1.5 else delta ** n)
+    slope = c.face_k[f] * n * (root if n == 1.5 else delta ** (n - 1.0))  # d elastic / d delta
+    bracket = 1.0 + c.face_damping[f] * ddelta
+    k_rate = elastic * c.face_damping[f] if bracket > 0.0 else 0.0
+    bracket = max(bracket, 0.0)
+    mag = elastic * bracket
+    normal = (nx, ny, nz)
+    dmag_dx = (slope * bracket * d_delta[0] + k_rate * d_rate_dx[0], slope * bracket * d_delta[1]
+               + k_rate * d_rate_dx[1], slope * bracket * d_delta[2] + k_rate * d_rate_dx[2])
+    df_dx = (normal[0] * dmag_dx[0] + mag * dn[0], normal[0] * dmag_dx[1] + mag * dn[1],
+             normal[0] * dmag_dx[2] + mag * dn[2], normal[1] * dmag_dx[0] + mag * dn[3],
+             normal[1] * dmag_dx[1] + mag * dn[4], normal[1] * dmag_dx[2] + mag * dn[5],
+             normal[2] * dmag_dx[0] + mag * dn[6], normal[2] * dmag_dx[1] + mag * dn[7],
+             normal[2] * dmag_dx[2] + mag * dn[8])
+    df_dv = (normal[0] * k_rate * d_rate_dv[0], normal[0] * k_rate * d_rate_dv[1], normal[0] * k_rate * d_rate_dv[2],
+             normal[1] * k_rate * d_rate_dv[0], normal[1] * k_rate * d_rate_dv[1], normal[1] * k_rate * d_rate_dv[2],
+             normal[2] * k_rate * d_rate_dv[0], normal[2] * k_rate * d_rate_dv[1], normal[2] * k_rate * d_rate_dv[2])
+    return (mag * nx, mag * ny, mag * nz), g, df_dx, df_dv, dg
