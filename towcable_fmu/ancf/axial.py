@@ -49,6 +49,11 @@ def slope_derivatives(gauss_dn: np.ndarray, length: float, d: np.ndarray) -> Non
         d[g, 3] = gauss_dn[g, 3]
 
 
+#: columns where the gradients of (a0, s, a1) can be non-zero (from, to)
+_GRAD_FROM = (3, 0, 9)
+_GRAD_TO = (6, 12, 12)
+
+
 class AxialWork(NamedTuple):
     """The Gauss quadrature of the axial kernels and their scratch arrays (ng points).
 
@@ -63,6 +68,7 @@ class AxialWork(NamedTuple):
     grad: np.ndarray    #: (3, 12) gradients of (a0, s, a1), scratch of :func:`axial_tangent`
     first: np.ndarray   #: (3,) first derivatives of U/EA, scratch
     hess: np.ndarray    #: (3, 3) second derivatives of U/EA, scratch
+    blocks: np.ndarray  #: (4, 4, 6) symmetric 3x3 blocks (xx, xy, xz, yy, yz, zz) of the arc term, scratch
 
 
 @njit(cache=True, inline="always")
@@ -70,7 +76,7 @@ def axial_work(gauss_dn: np.ndarray, gauss_w: np.ndarray) -> AxialWork:
     """Work arrays for the quadrature ``gauss_dn`` (ng, 4), ``gauss_w`` (ng,)."""
     ng = gauss_w.shape[0]
     return AxialWork(gauss_dn, gauss_w, np.empty((ng, 4)), np.empty(ng), np.empty((ng, 3)), np.empty((3, 12)),
-                     np.empty(3), np.empty((3, 3)))
+                     np.empty(3), np.empty((3, 3)), np.empty((4, 4, 6)))
 
 
 @njit(cache=True, inline="always")
@@ -202,15 +208,15 @@ def axial_tangent(x: np.ndarray, base: int, length: float, ea: float, tension_on
             for b in range(3):
                 hess[a, b] += k2 * d[g, a + 1] * d[g, b + 1]
     c = ea * scale
+    # grad[0] is non-zero in columns 3-5 only (the slope at node 0), grad[2] in 9-11
     for a in range(3):
         for b in range(3):
             hab = c * hess[a, b]
             if hab != 0.0:
-                for i in range(12):
+                for i in range(_GRAD_FROM[a], _GRAD_TO[a]):
                     gi = hab * grad[a, i]
-                    if gi != 0.0:
-                        for j in range(12):
-                            kmat[i, j] += gi * grad[b, j]
+                    for j in range(_GRAD_FROM[b], _GRAD_TO[b]):
+                        kmat[i, j] += gi * grad[b, j]
     # curvature of the norms: d2|v|/dv2 = (I - u u^T)/|v|
     for k in range(3):
         for m in range(3):
@@ -219,15 +225,39 @@ def axial_tangent(x: np.ndarray, base: int, length: float, ea: float, tension_on
             kmat[9 + k, 9 + m] += c * first[2] * (delta - x[base + 9 + k] * x[base + 9 + m] * inv1 * inv1) * inv1
     cs = c * first[1]
     if cs != 0.0:
+        # sum_g w_g d_gi d_gj (I - u_g u_g^T): symmetric blocks, symmetric in (i, j); summed
+        # over the points first and written once
+        blocks = work.blocks
+        blocks[:, :, :] = 0.0
         for g in range(ng):
             w = cs * gw[g] * length / max(lam[g], _TINY)
+            ux, uy, uz = u[g, 0], u[g, 1], u[g, 2]
+            p0, p1, p2, p3, p4, p5 = 1.0 - ux * ux, -ux * uy, -ux * uz, 1.0 - uy * uy, -uy * uz, 1.0 - uz * uz
             for i in range(4):
-                for j in range(4):
-                    wij = w * d[g, i] * d[g, j]
-                    for k in range(3):
-                        for m in range(3):
-                            delta = 1.0 if k == m else 0.0
-                            kmat[3 * i + k, 3 * j + m] += wij * (delta - u[g, k] * u[g, m])
+                wi = w * d[g, i]
+                for j in range(i, 4):
+                    wij = wi * d[g, j]
+                    b = blocks[i, j]
+                    b[0] += wij * p0
+                    b[1] += wij * p1
+                    b[2] += wij * p2
+                    b[3] += wij * p3
+                    b[4] += wij * p4
+                    b[5] += wij * p5
+        for i in range(4):
+            for j in range(4):
+                b = blocks[min(i, j), max(i, j)]
+                r = 3 * i
+                col = 3 * j
+                kmat[r, col] += b[0]
+                kmat[r, col + 1] += b[1]
+                kmat[r, col + 2] += b[2]
+                kmat[r + 1, col] += b[1]
+                kmat[r + 1, col + 1] += b[3]
+                kmat[r + 1, col + 2] += b[4]
+                kmat[r + 2, col] += b[2]
+                kmat[r + 2, col + 1] += b[4]
+                kmat[r + 2, col + 2] += b[5]
     return taut
 
 
