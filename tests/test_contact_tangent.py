@@ -148,7 +148,7 @@ def _elements_with_a_contact_end(sim) -> list[int]:
         pts = np.empty((2 * npts, 6))
         xi, wt, g = np.empty(2 * npts), np.empty(2 * npts), np.empty(2 * npts)
         cross = np.empty(2 * npts, dtype=np.int64)
-        fpt = np.zeros((2 * npts, 4))
+        fpt = np.zeros((2 * npts, 7))
         faces = np.empty(c.face_kind.size, dtype=np.int64)
         half_d = 0.5 * m.el_d[e]
         nfaces = _touching_faces(c, half_d, q, 6 * e, m.el_len[e], rot, sim.workspace.ship, faces)

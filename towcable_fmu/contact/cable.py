@@ -72,11 +72,12 @@ def _ship_point(c: ContactModel, f: int, rot: np.ndarray, rot1: np.ndarray, ship
 @njit(cache=True, inline="always")
 def _inertial_force(c: ContactModel, f: int, half_d: float, rot: np.ndarray, rot1: np.ndarray, ship: np.ndarray,
                     rx: float, ry: float, rz: float, vx: float, vy: float, vz: float) -> tuple:
-    """Face force per unit length in the inertial frame, W(102), the indicator and the stored energy."""
+    """Face force per unit length in the inertial frame, W(102), the indicator, the stored
+    energy and the point in the ship frame relative to the face's centre."""
     sx, sy, sz, wx, wy, wz = _ship_point(c, f, rot, rot1, ship, rx, ry, rz, vx, vy, vz)
     fx, fy, fz, g, energy = face_force(c, f, half_d, sx, sy, sz, wx, wy, wz)
     return (rot[0, 0] * fx + rot[0, 1] * fy + rot[0, 2] * fz, rot[1, 0] * fx + rot[1, 1] * fy + rot[1, 2] * fz,
-            rot[2, 0] * fx + rot[2, 1] * fy + rot[2, 2] * fz, g, energy)
+            rot[2, 0] * fx + rot[2, 1] * fy + rot[2, 2] * fz, g, energy, sx, sy, sz)
 
 
 @njit(cache=True, inline="always")
@@ -148,14 +149,15 @@ def _element_points(q, v, base, length, npts, pts):
 
 @njit(cache=True)
 def _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, pts, xi, wt, g, cross, fpt):
-    """Active quadrature of face f on one element (grid points in ``pts``); forces and stored
-    energy density at all its points into ``fpt`` (columns fx, fy, fz [N/m], energy [J/m]).
-    The crossing points are appended to ``pts``."""
+    """Active quadrature of face f on one element (grid points in ``pts``); forces, stored
+    energy density and ship-frame position at all its points into ``fpt`` (columns fx, fy,
+    fz [N/m], energy [J/m], X, Y, Z [m] relative to the face's centre). The crossing points
+    are appended to ``pts``."""
     count = npts
     start = 0
     for stage in range(2):  # the grid, then the crossings its indicator gives (one inlined force call)
         for p in range(start, count):
-            fpt[p, 0], fpt[p, 1], fpt[p, 2], gp, fpt[p, 3] = _inertial_force(
+            fpt[p, 0], fpt[p, 1], fpt[p, 2], gp, fpt[p, 3], fpt[p, 4], fpt[p, 5], fpt[p, 6] = _inertial_force(
                 c, f, half_d, rot, rot1, ship, pts[p, 0], pts[p, 1], pts[p, 2], pts[p, 3], pts[p, 4], pts[p, 5])
             if stage == 0:
                 g[p] = gp
@@ -196,7 +198,7 @@ def add_residual(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarray,
     wt = np.empty(m)
     g = np.empty(m)
     cross = np.empty(m, dtype=np.int64)
-    fpt = np.empty((m, 4))
+    fpt = np.empty((m, 7))
     pts = np.empty((m, 6))
     faces = np.empty(c.face_kind.shape[0], dtype=np.int64)
     evaluations = 0
@@ -244,7 +246,7 @@ def add_jacobian(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarray,
     wt = np.empty(m)
     g = np.empty(m)
     cross = np.empty(m, dtype=np.int64)
-    fpt = np.zeros((m, 4))
+    fpt = np.zeros((m, 7))
     dg = np.zeros((m, 3))
     jac = np.empty((3, 6))
     gradient = np.empty(3)
@@ -336,7 +338,7 @@ def surface_summary(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarr
     wt = np.empty(m)
     g = np.empty(m)
     cross = np.empty(m, dtype=np.int64)
-    fpt = np.empty((m, 4))
+    fpt = np.empty((m, 7))
     pts = np.empty((m, 6))
     faces = np.empty(c.face_kind.shape[0], dtype=np.int64)
     rows = 0
@@ -356,10 +358,7 @@ def surface_summary(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarr
             count = _face_quadrature(c, f, half_d, rot, rot1, ship, q, v, base, length, npts, pts, xi, wt, g, cross,
                                      fpt)
             for p in range(count):
-                n = hermite(xi[p], length)
-                rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
-                vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
-                sx, sy, sz, _, _, _ = _ship_point(c, f, rot, rot1, ship, rx, ry, rz, vx, vy, vz)
+                sx, sy, sz = fpt[p, 4], fpt[p, 5], fpt[p, 6]
                 if p < npts and sz >= 0.0:
                     h = math.sqrt(sx * sx + sz * sz) - (c.face_radius[f] + half_d)
                     if c.face_kind[f] != CYLINDER:  # out of a groove: above its top, or climbed out
