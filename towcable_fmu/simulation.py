@@ -33,6 +33,8 @@ from .simulation_driver import SimulationDriver
 
 #: Outputs of a scene with a rigid load held by the cable (``[load]``), see :meth:`Simulation._load_outputs`.
 LOAD_OUTPUTS = ("tension.load", "load.angle", "energy.load")
+#: fewest nominal steps in a block of the run loop (one compiled call, one drive table)
+BLOCK_STEPS = 100
 #: Normalised element positions at which the tension profile is sampled.
 _PROFILE_XI = np.array([0.0, 0.5, 1.0])
 #: advance_recording's arguments to step without outputs, and to read all outputs of a state
@@ -564,8 +566,13 @@ class Simulation(SimulationDriver):
         return self.compensation is not None and self.compensation.config.rigorous
 
     def _block_size(self, interval: float) -> int:
-        # per sample when the set-point needs the measured angle of the latest state
-        return 1 if self._rigorous() else super()._block_size(interval)
+        # per sample when the set-point needs the measured angle of the latest state; else
+        # at least BLOCK_STEPS steps of the nominal size (each block pays the drive table's
+        # motion and set-points in Python and a kernel call: 10 % of full_scale's run with
+        # blocks of 1 s, 20 steps)
+        if self._rigorous():
+            return 1
+        return max(super()._block_size(interval), int(BLOCK_STEPS * self.options.h_max / interval))
 
     def _record(self, block: np.ndarray, rows: np.ndarray, t_land: float) -> int:
         """Step through the sample times ``block`` [s] and write their outputs into ``rows``.

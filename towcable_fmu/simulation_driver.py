@@ -247,7 +247,8 @@ class SimulationDriver:
             Output interval [s]; default: the scene's ``output.interval``.
         progress
             Called as ``progress(t, t_end)`` [s] at the start and after every block of
-            samples (about 1 s of simulated time).
+            samples (at least 1 s of simulated time; the ANCF simulation's blocks hold at
+            least 100 nominal steps).
 
         Returns
         -------
