@@ -105,20 +105,15 @@ class TermPart:
 
     def matrix(self, weights: tuple[float, float, float]):
         """The term's part of ``ca M + cv C + cq K`` (dense, free coordinates)."""
-        import numpy as np
-
         from towcable_fmu.ancf.system import iteration_matrix
+        from towcable_fmu.numerics.banded import band_storage, band_to_dense
 
         m, n = self.model, self.free.size
         out = []
         for model in (m, self.without):
-            ab = np.zeros((2 * m.kl + m.ku + 1, n))
+            ab = band_storage(n, m.kl, m.ku)
             iteration_matrix(model, self.q, self.v, self.t, self.ship, *weights, ab)
-            dense = np.zeros((n, n))
-            for j in range(n):
-                i = np.arange(max(0, j - m.ku), min(n, j + m.kl + 1))
-                dense[i, j] = ab[m.kl + m.ku + i - j, j]
-            out.append(dense)
+            out.append(band_to_dense(ab, m.kl, m.ku))
         return out[0] - out[1]
 
     def residual(self, q, v, a):

@@ -394,7 +394,7 @@ def test_newton_with_the_assembled_jacobian_converges(scene):
     (stiffness part) reduce the residual a thousandfold in four steps: the tangents of
     drag, current profile and waterline crossing are consistent with the residual (with the
     crossing tangent missing, Newton stalls at a few per cent of the start)."""
-    from towcable_fmu.numerics.banded import band_lu, band_solve
+    from towcable_fmu.numerics.banded import band_lu, band_solve, band_storage
 
     sim = Simulation.from_scene(scene)
     sim.initialize()
@@ -411,7 +411,7 @@ def test_newton_with_the_assembled_jacobian_converges(scene):
     for _ in range(5):
         residual(m, q, v, v, 0.0, ship, r)
         norms.append(np.abs(r[free]).max())
-        ab = np.zeros((2 * m.kl + m.ku + 1, n))
+        ab = band_storage(n, m.kl, m.ku)
         iteration_matrix(m, q, v, 0.0, ship, 0.0, 0.0, 1.0, ab)
         ipiv = np.zeros(n, dtype=np.int64)
         band_lu(ab, n, m.kl, m.ku, ipiv)

@@ -371,12 +371,12 @@ def test_banded_iteration_matrix_holds_every_coupling():
     r0 = np.empty(n)
     residual(m, q, v, a, 0.0, r0)
     kl = bandwidth(m)
-    ab = np.empty((3 * kl + 1, n - 3))
+    ab = np.empty((n - 3, 3 * kl + 1))
     iteration_matrix(m, q, v, a, 0.0, ca, cv, cq, 1e-6, r0, ab, np.empty((4, n)))
     banded = np.zeros((n - 3, n - 3))
     for j in range(n - 3):
         for i in range(max(0, j - kl), min(n - 3, j + kl + 1)):
-            banded[i, j] = ab[2 * kl + i - j, j]
+            banded[i, j] = ab[j, 2 * kl + i - j]
     dense = np.zeros((n - 3, n - 3))
     r = np.empty(n)
     for j in range(3, n):
@@ -511,6 +511,7 @@ def test_ancf_iteration_matrix_holds_the_body_couplings():
     body's rows, against central differences of the whole residual (acceleration zero:
     the body block leaves out the attitude derivative of its inertia forces)."""
     from towcable_fmu.ancf.system import iteration_matrix, residual
+    from towcable_fmu.numerics.banded import band_storage
     from towcable_fmu.simulation import Simulation
 
     table = _ancf(_tow_table())
@@ -528,7 +529,7 @@ def test_ancf_iteration_matrix_holds_the_body_couplings():
     ship = np.zeros((3, 6))
     ca, cv, cq = 1.0, 0.05, 0.001
     n = free.size
-    ab = np.zeros((2 * m.kl + m.ku + 1, n))
+    ab = band_storage(n, m.kl, m.ku)
     iteration_matrix(m, q, v, 0.0, ship, ca, cv, cq, ab)
     i = m.terms.rigid_link.index
     cols = list(range(i - 6, i - 3)) + list(range(i, i + 6))
@@ -543,7 +544,7 @@ def test_ancf_iteration_matrix_holds_the_body_couplings():
             residual(m, qq, vv, aa, 0.0, ship, r)
         column = (rp - rm)[free] / (2.0 * h)
         fc = m.free_idx[j]
-        banded = np.array([ab[m.kl + m.ku + fr - fc, fc] if abs(fr - fc) <= m.kl else 0.0 for fr in range(n)])
+        banded = np.array([ab[fc, m.kl + m.ku + fr - fc] if abs(fr - fc) <= m.kl else 0.0 for fr in range(n)])
         assert np.abs(banded - column).max() < 1e-7 * np.abs(column).max(), j    # measured <= 1e-9
     # the body's rows hold nothing outside the band (columns of the other coordinates)
     for j in free:

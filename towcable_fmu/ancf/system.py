@@ -114,7 +114,7 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
     ca, cv, cq
         Weights of the mass, damping and stiffness parts.
     ab
-        Output band storage, shape (2 kl + ku + 1, n); overwritten.
+        Output band storage (:mod:`towcable_fmu.numerics.banded`), shape (n, 2 kl + ku + 1); overwritten.
     """
     ab[:, :] = 0.0
     ne = model.el_len.shape[0]
@@ -139,5 +139,5 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
         for c in range(3):
             fi = model.free_idx[6 * n + c]
             if fi >= 0:
-                ab[off, fi] += ca * model.node_mass[n, c]
+                ab[fi, off] += ca * model.node_mass[n, c]
     add_tangents(model, Motion(q, v, t, ship), ca, cv, cq, ab)

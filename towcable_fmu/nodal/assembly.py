@@ -96,8 +96,8 @@ def cable_residual(m: NodalModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t
 def iteration_matrix(m: NodalModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: float, ca: float,
                      cv: float, cq: float, delta: float, r0: np.ndarray, ab: np.ndarray, work: np.ndarray) -> int:
     """Banded ``ca M + cv C + cq K`` of the free coordinates (all but node 0's): the change
-    of r when a, v and q move by ``ca``, ``cv`` and ``cq`` times a parameter, into LAPACK
-    band storage ``ab`` (3 kl + 1, q.size - 3) with kl = :func:`bandwidth`.
+    of r when a, v and q move by ``ca``, ``cv`` and ``cq`` times a parameter, into the band
+    storage of :mod:`towcable_fmu.numerics.banded`, ``ab`` (q.size - 3, 3 kl + 1) with kl = :func:`bandwidth`.
 
     Parameters
     ----------
@@ -137,11 +137,11 @@ def iteration_matrix(m: NodalModel, q: np.ndarray, v: np.ndarray, a: np.ndarray,
                 for row_node in range(max(node - 1, 1), min(node + 2, nn)):
                     for kk in range(3):
                         row = 3 * (row_node - 1) + kk
-                        ab[off + row - col, col] = (rp[3 * row_node + kk] - r0[3 * row_node + kk]) / delta
+                        ab[col, off + row - col] = (rp[3 * row_node + kk] - r0[3 * row_node + kk]) / delta
                 if rigid and node == nn - 1:
                     for kk in range(6):
                         row = ib - 3 + kk
-                        ab[off + row - col, col] = (rp[ib + kk] - r0[ib + kk]) / delta
+                        ab[col, off + row - col] = (rp[ib + kk] - r0[ib + kk]) / delta
     if not rigid:
         return 9
     for k in range(6):
@@ -154,5 +154,5 @@ def iteration_matrix(m: NodalModel, q: np.ndarray, v: np.ndarray, a: np.ndarray,
         residual(m, qp, vp, ap, t, rp)
         col = ib - 3 + k
         for j in range(max(ib - 3, 3), ib + 6):
-            ab[off + j - 3 - col, col] = (rp[j] - r0[j]) / delta
+            ab[col, off + j - 3 - col] = (rp[j] - r0[j]) / delta
     return 15

@@ -96,7 +96,7 @@ def prescribe_top(m: NodalModel, drive_t: np.ndarray, drive_x: np.ndarray, t: fl
 
 @njit(cache=True)
 def _factor(ab: np.ndarray, kl: int, ipiv: np.ndarray) -> bool:
-    return band_lu(ab, ab.shape[1], kl, kl, ipiv) == 0
+    return band_lu(ab, ab.shape[0], kl, kl, ipiv) == 0
 
 
 @njit(cache=True)
@@ -123,7 +123,7 @@ def genalpha_step(m: NodalModel, options: NodalOptions, h: float, t: float, driv
     n = q.size
     kl = bandwidth(m)
     r = np.empty(n)
-    ab = np.empty((3 * kl + 1, n - 3))
+    ab = np.empty((n - 3, 3 * kl + 1))
     ipiv = np.empty(n - 3, dtype=np.int64)
     work = np.empty((4, n))
     scale = options.newton_tol * m.L0.min()
@@ -160,7 +160,7 @@ def accelerations(m: NodalModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t:
     r = np.empty(n)
     residual(m, q, v, a, t, r)
     kl = bandwidth(m)
-    ab = np.empty((3 * kl + 1, n - 3))
+    ab = np.empty((n - 3, 3 * kl + 1))
     ipiv = np.empty(n - 3, dtype=np.int64)
     work = np.empty((4, n))
     stats[STAT_RESIDUALS] += 1 + iteration_matrix(m, q, v, a, t, 1.0, 0.0, 0.0, 1.0, r, ab, work)

@@ -46,7 +46,7 @@ def solve_statics(m: NodalModel, q: np.ndarray, t: float, tolerance: float, max_
     zero = np.zeros(n)
     r = np.empty(n)
     kl = bandwidth(m)
-    ab = np.empty((3 * kl + 1, n - 3))
+    ab = np.empty((n - 3, 3 * kl + 1))
     mass = np.empty_like(ab)
     ipiv = np.empty(n - 3, dtype=np.int64)
     work = np.empty((4, n))

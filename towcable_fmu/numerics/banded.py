@@ -1,9 +1,12 @@
 """Banded LU factorisation with partial pivoting, compiled.
 
-Storage follows LAPACK's ``dgbtrf`` convention: an ``n x n`` matrix with ``kl``
-sub-diagonals and ``ku`` super-diagonals lives in ``ab`` of shape
-``(2*kl + ku + 1, n)`` with ``A[i, j] = ab[kl + ku + i - j, j]``; the first ``kl`` rows
-are workspace for the fill-in that row interchanges create. Calling scipy or LAPACK
+Storage is LAPACK's ``dgbtrf`` band storage, column by column: an ``n x n`` matrix with
+``kl`` sub-diagonals and ``ku`` super-diagonals lives in ``ab`` of shape
+``(n, 2*kl + ku + 1)`` with ``A[i, j] = ab[j, kl + ku + i - j]`` (row j of ``ab`` is
+column j of the band, contiguous: the elimination walks down columns; LAPACK's
+``(2*kl + ku + 1, n)`` array in C order is ``ab.T``); the first ``kl`` entries of each
+column are workspace for the fill-in that row interchanges create. Build it with
+:func:`band_storage`. Calling scipy or LAPACK
 from inside the compiled time loop is not possible, and a Python call per step costs
 more than the step itself, so this is our own implementation of the unblocked
 algorithm (column-wise elimination, pivot search within the band).
@@ -15,6 +18,27 @@ import numpy as np
 
 from ..kernel_cache import njit
 from .arrays import copy_into
+
+
+def band_storage(n: int, kl: int, ku: int) -> np.ndarray:
+    """Zero band storage for an ``n x n`` matrix with ``kl`` sub- and ``ku`` super-diagonals."""
+    return np.zeros((n, 2 * kl + ku + 1))
+
+
+def band_to_dense(ab: np.ndarray, kl: int, ku: int) -> np.ndarray:
+    """The ``n x n`` matrix held in band storage (before factorisation)."""
+    n = ab.shape[0]
+    dense = np.zeros((n, n))
+    for j in range(n):
+        i = np.arange(max(0, j - ku), min(n, j + kl + 1))
+        dense[i, j] = ab[j, kl + ku + i - j]
+    return dense
+
+
+@njit(cache=True, inline="always")
+def band_add(ab: np.ndarray, kl: int, ku: int, i: int, j: int, value: float) -> None:
+    """Add ``value`` to entry (i, j) of the banded matrix (within the band)."""
+    ab[j, kl + ku + i - j] += value
 
 
 @njit(cache=True)
@@ -42,7 +66,7 @@ def band_add_block(ab: np.ndarray, kl: int, ku: int, free_idx: np.ndarray, base:
                 continue
             val = block[i, j]
             if val != 0.0:
-                ab[off + fi - fj, fj] += val
+                ab[fj, off + fi - fj] += val
 
 
 @njit(cache=True)
@@ -62,7 +86,7 @@ def band_add_scattered(ab: np.ndarray, kl: int, ku: int, free_idx: np.ndarray, c
                 continue
             val = block[i, j]
             if val != 0.0:
-                ab[off + fi - fj, fj] += val
+                ab[fj, off + fi - fj] += val
 
 
 @njit(cache=True)
@@ -87,16 +111,17 @@ def band_lu(ab: np.ndarray, n: int, kl: int, ku: int, ipiv: np.ndarray) -> int:
     ju = 0
     info = 0
     for j in range(n):
+        colj = ab[j]
         km = min(kl, n - 1 - j)
         jp = 0
-        best = abs(ab[kv, j])
+        best = abs(colj[kv])
         for i in range(1, km + 1):
-            val = abs(ab[kv + i, j])
+            val = abs(colj[kv + i])
             if val > best:
                 best = val
                 jp = i
         ipiv[j] = j + jp
-        if ab[kv + jp, j] == 0.0:
+        if colj[kv + jp] == 0.0:
             if info == 0:
                 info = j + 1
             continue
@@ -105,19 +130,20 @@ def band_lu(ab: np.ndarray, n: int, kl: int, ku: int, ipiv: np.ndarray) -> int:
             for c in range(j, ju + 1):
                 r1 = kv + j - c
                 r2 = r1 + jp
-                tmp = ab[r1, c]
-                ab[r1, c] = ab[r2, c]
-                ab[r2, c] = tmp
+                tmp = ab[c, r1]
+                ab[c, r1] = ab[c, r2]
+                ab[c, r2] = tmp
         if km > 0:
-            inv = 1.0 / ab[kv, j]
+            inv = 1.0 / colj[kv]
             for i in range(1, km + 1):
-                ab[kv + i, j] *= inv
+                colj[kv + i] *= inv
             for c in range(j + 1, ju + 1):
-                ujc = ab[kv + j - c, c]
+                colc = ab[c]
+                base = kv + j - c
+                ujc = colc[base]
                 if ujc != 0.0:
-                    base = kv + j - c
                     for i in range(1, km + 1):
-                        ab[base + i, c] -= ab[kv + i, j] * ujc
+                        colc[base + i] -= colj[kv + i] * ujc
     return info
 
 
@@ -135,14 +161,14 @@ def band_solve(ab: np.ndarray, n: int, kl: int, ku: int, ipiv: np.ndarray, b: np
         if bj != 0.0:
             km = min(kl, n - 1 - j)
             for i in range(1, km + 1):
-                b[j + i] -= ab[kv + i, j] * bj
+                b[j + i] -= ab[j, kv + i] * bj
     for j in range(n - 1, -1, -1):
-        b[j] /= ab[kv, j]
+        b[j] /= ab[j, kv]
         bj = b[j]
         if bj != 0.0:
             lim = min(kv, j)
             for i in range(1, lim + 1):
-                b[j - i] -= ab[kv - i, j] * bj
+                b[j - i] -= ab[j, kv - i] * bj
 
 
 @njit(cache=True)
@@ -156,15 +182,15 @@ def band_positive_pivots(ab: np.ndarray, n: int, kl: int, ku: int, work: np.ndar
     kv = kl + ku
     copy_into(work, ab)
     for j in range(n):
-        piv = work[kv, j]
+        piv = work[j, kv]
         if not piv > 0.0:
             return False
         km = min(kl, n - 1 - j)
         for i in range(1, km + 1):
-            work[kv + i, j] /= piv
+            work[j, kv + i] /= piv
         for c in range(j + 1, min(j + ku, n - 1) + 1):
-            ujc = work[kv + j - c, c]
+            ujc = work[c, kv + j - c]
             if ujc != 0.0:
                 for i in range(1, km + 1):
-                    work[kv + j - c + i, c] -= work[kv + i, j] * ujc
+                    work[c, kv + j - c + i] -= work[j, kv + i] * ujc
     return True

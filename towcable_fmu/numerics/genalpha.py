@@ -65,7 +65,7 @@ from ..ancf.slack import crossing_fraction
 from ..ancf.system import iteration_matrix, residual
 from ..drive import evaluate_drive
 from .arrays import copy_into
-from .banded import band_lu, band_solve
+from .banded import band_lu, band_solve, band_storage
 
 # results of advance
 OK = 0
@@ -185,7 +185,7 @@ def new_workspace(model: CableModel) -> Workspace:
     """Scratch arrays sized for ``model``."""
     nf = model.free_idx.shape[0]
     n = model.free_dofs.shape[0]
-    return Workspace(np.zeros((2 * model.kl + model.ku + 1, n)), np.zeros(n, dtype=np.int64), np.zeros(nf),
+    return Workspace(band_storage(n, model.kl, model.ku), np.zeros(n, dtype=np.int64), np.zeros(nf),
                      np.zeros(n), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros((3, 6)),
                      np.zeros(4), np.full(1, np.nan), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(4),
                      np.zeros((3, 6)))

@@ -30,6 +30,7 @@ from scipy.linalg import solve_banded
 from ..ancf.prescribed import apply_prescribed
 from ..ancf.system import iteration_matrix, residual
 from ..errors import SolverError
+from .banded import band_storage
 
 
 def integrate_reference(sim, t_end: float, t_eval: np.ndarray, method: str = "Radau",
@@ -85,7 +86,7 @@ def integrate_reference(sim, t_end: float, t_eval: np.ndarray, method: str = "Ra
     v = sim.state.v.copy()
     a = np.zeros_like(q)
     r = np.zeros_like(q)
-    ab = np.zeros((2 * kl + ku + 1, n))
+    ab = band_storage(n, kl, ku)
     goal = (np.zeros_like(q), np.zeros_like(q), np.zeros_like(q))  # g, g', g'' of the prescribed rows
     states = free if constraints == "eliminated" else np.arange(q.size)
     m = states.size
@@ -108,7 +109,7 @@ def integrate_reference(sim, t_end: float, t_eval: np.ndarray, method: str = "Ra
         residual(model, q, v, a, t, ship, r)
         iteration_matrix(model, q, v, t, ship, 1.0, 0.0, 0.0, ab)
         acc = a.copy()
-        acc[free] = solve_banded((kl, ku), ab[kl:], -r[free])
+        acc[free] = solve_banded((kl, ku), ab[:, kl:].T, -r[free])
         return np.concatenate([y[m:], acc[states]])
 
     y0 = np.concatenate([sim.state.q[states], sim.state.v[states]])

@@ -27,7 +27,7 @@ from ..ancf.prescribed import apply_prescribed
 from ..ancf.model import CableModel
 from ..ancf.system import iteration_matrix, residual
 from ..errors import SolverError
-from .banded import band_lu, band_positive_pivots, band_solve
+from .banded import band_lu, band_positive_pivots, band_solve, band_storage
 
 
 @dataclasses.dataclass
@@ -65,7 +65,7 @@ def _ptc(model: CableModel, q: np.ndarray, ship: np.ndarray, t: float, tolerance
     position_dof = (free % 6) < 3
     # the move limit in element lengths (free_scale is stricter at a rigid body's link: Newton's measure)
     move_scale = np.minimum(model.free_scale, 1.0 / model.el_len.min())[position_dof]
-    ab = np.zeros((2 * model.kl + model.ku + 1, n))
+    ab = band_storage(n, model.kl, model.ku)
     work = np.zeros_like(ab)
     ipiv = np.zeros(n, dtype=np.int64)
     r = np.zeros(q.size)
