@@ -281,14 +281,13 @@ def add_jacobian(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarray,
                                          or (p < npts - 1 and (g[p + 1] > 0.0) != (g[p] > 0.0)))
                 if wp == 0.0 and not needs_dg:
                     continue
-                n = hermite(xi[p], length)
-                rx, ry, rz = interpolate(q, base, n[0], n[1], n[2], n[3])
-                vx, vy, vz = interpolate(v, base, n[0], n[1], n[2], n[3])
-                _inertial_tangent(c, f, half_d, rot, rot1, ship, rx, ry, rz, vx, vy, vz, jac, gradient)
+                _inertial_tangent(c, f, half_d, rot, rot1, ship, pts[p, 0], pts[p, 1], pts[p, 2], pts[p, 3],
+                                  pts[p, 4], pts[p, 5], jac, gradient)
                 for k in range(3):
                     dg[p, k] = gradient[k]
                 if wp == 0.0:
                     continue
+                n = hermite(xi[p], length)
                 for i in range(4):
                     for j in range(4):
                         nn = wp * n[i] * n[j]
