@@ -17,14 +17,17 @@ import numpy as np
 
 from towcable_fmu.errors import SceneError
 
-#: Algorithm names, as used by the command line and the HeaveCompensation FMU.
-ALGORITHMS: tuple[str, ...] = (
+#: The set-point algorithms from the ship motion (:class:`controllers.SetpointAlgorithm`).
+MOTION_ALGORITHMS: tuple[str, ...] = (
     "none",
     "simplified_sheave",
     "rigorous_sheave",
     "simplified_waterline",
     "rigorous_waterline",
 )
+#: Algorithm names, as used by the command line and the HeaveCompensation FMU: the motion
+#: algorithms and the constant-tension winch (:class:`controllers.TensionControl`).
+ALGORITHMS: tuple[str, ...] = MOTION_ALGORITHMS + ("constant_tension",)
 
 #: What each configuration key allows (used in error messages).
 ALLOWED: dict[str, str] = {
@@ -39,6 +42,10 @@ ALLOWED: dict[str, str] = {
                    "the waterline algorithms",
     "max_payout": "absent (no limit) or a finite number > 0 [m]",
     "max_winch_speed": "absent (no limit) or a finite number > 0 [rad/s]",
+    "max_winch_acceleration": "absent (no limit) or a finite number > 0 [rad/s^2]",
+    "tension_target": "a finite number > 0 [N] (required by constant_tension)",
+    "tension_gain": "a finite number > 0 [m/(s N)]: payout rate per newton of tension above the target "
+                    "(required by constant_tension)",
 }
 
 
@@ -91,12 +98,22 @@ class SetpointConfig:
         Largest payout magnitude [m], or None for no limit. The payout is clipped to
         ``[-max_payout, max_payout]``; while it is clipped its rate is zero.
     max_winch_speed
-        Largest winch set-point speed magnitude [rad/s], or None for no limit. Only the
-        rate ``phi_sp_rate`` is clipped (the algorithm is stateless: ``phi_sp`` still
-        follows the payout).
+        Largest winch set-point speed magnitude [rad/s], or None for no limit. For the
+        motion algorithms only the rate ``phi_sp_rate`` is clipped (they are stateless:
+        ``phi_sp`` still follows the payout); ``constant_tension`` integrates the clipped
+        rate.
+    max_winch_acceleration
+        Largest change of the set-point speed [rad/s^2] (``constant_tension`` only), or
+        None for no limit.
+    tension_target
+        Tension the ``constant_tension`` winch holds [N].
+    tension_gain
+        Payout rate per newton of measured tension above the target [m/(s N)]
+        (``constant_tension``): with a cable of axial stiffness k [N/m] between the winch
+        and a fixed point, the tension loop's bandwidth is ``k * tension_gain`` [rad/s].
     key
-        Prefix of the keys named in error messages (default ``"compensation"``);
-        not stored.
+        Prefix of the keys named in error messages (default ``"compensation"``; empty:
+        the field names alone); not stored.
 
     Raises
     ------
@@ -112,11 +129,14 @@ class SetpointConfig:
     waterline_z: float = 0.0
     max_payout: float | None = None
     max_winch_speed: float | None = None
+    max_winch_acceleration: float | None = None
+    tension_target: float | None = None
+    tension_gain: float | None = None
     key: InitVar[str] = "compensation"
 
     def __post_init__(self, key: str) -> None:
         def name(field: str) -> str:
-            return f"{key}.{field}"
+            return f"{key}.{field}" if key else field
 
         if not isinstance(self.algorithm, str) or self.algorithm not in ALGORITHMS:
             raise SceneError(name("algorithm"), self.algorithm, ALLOWED["algorithm"])
@@ -126,7 +146,8 @@ class SetpointConfig:
         }
         for field in ("winch_radius", "phi_nom", "theta_nom", "waterline_z"):
             values[field] = _number(name(field), getattr(self, field), ALLOWED[field])
-        for field in ("max_payout", "max_winch_speed"):
+        optional = ("max_payout", "max_winch_speed", "max_winch_acceleration", "tension_target", "tension_gain")
+        for field in optional:
             value = getattr(self, field)
             values[field] = (None if value is None
                              else _number(name(field), value, ALLOWED[field]))
@@ -136,9 +157,13 @@ class SetpointConfig:
                              ALLOWED["winch_radius"])
         if not 0.0 <= values["theta_nom"] < 0.5 * math.pi:
             raise SceneError(name("theta_nom"), self.theta_nom, ALLOWED["theta_nom"])
-        for field in ("max_payout", "max_winch_speed"):
+        for field in optional:
             if values[field] is not None and values[field] <= 0.0:
                 raise SceneError(name(field), getattr(self, field), ALLOWED[field])
+        if self.algorithm == "constant_tension":
+            for field in ("tension_target", "tension_gain"):
+                if values[field] is None:
+                    raise SceneError(name(field), None, "required: " + ALLOWED[field])
         if (self.algorithm.endswith("_waterline")
                 and values["reference_point"][2] <= values["waterline_z"]):
             raise SceneError(name("waterline_z"), self.waterline_z,
@@ -154,7 +179,7 @@ class SetpointConfig:
 
     @property
     def method(self) -> str:
-        """``"none"``, ``"sheave"`` (W(2)) or ``"waterline"`` (W(1))."""
+        """``"none"``, ``"sheave"`` (W(2)), ``"waterline"`` (W(1)) or ``"tension"``."""
         return self.algorithm.rsplit("_", 1)[-1]
 
 
@@ -164,8 +189,9 @@ def setpoint_config_from_table(table: Mapping[str, object],
 
     The table's keys are the field names of :class:`SetpointConfig`, in SI units
     (for example ``winch_radius = 0.3``, ``theta_nom = 0.6``,
-    ``reference_point = [-36.8, 0.0, 3.7]``). ``waterline_z``, ``max_payout`` and
-    ``max_winch_speed`` are optional.
+    ``reference_point = [-36.8, 0.0, 3.7]``). ``waterline_z``, ``max_payout``,
+    ``max_winch_speed``, ``max_winch_acceleration``, ``tension_target`` and
+    ``tension_gain`` are optional (the last two required by ``constant_tension``).
 
     Parameters
     ----------

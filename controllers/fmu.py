@@ -1,18 +1,25 @@
-"""The ``HeaveCompensation`` FMU slave: the AHC set-point algorithms W(1)-(2) as an FMU.
+"""The ``HeaveCompensation`` FMU slave: the AHC set-point algorithms W(1)-(2) and the
+constant-tension winch as an FMU.
 
 Parameters are the :class:`~controllers.SetpointConfig` fields (``reference_point`` as
-``reference_point.x/.y/.z``; ``max_payout`` and ``max_winch_speed`` 0 mean no limit).
-Inputs: the ship position, attitude and their rates (12 ``ship.*`` signals) and the
-measured ``sheave_angle``; outputs ``winch.phi_sp`` [rad] and ``winch.phi_sp_rate``
-[rad/s].
+``reference_point.x/.y/.z``; ``max_payout``, ``max_winch_speed``,
+``max_winch_acceleration``, ``tension_target`` and ``tension_gain`` 0 mean "not set").
+Inputs: the ship position, attitude and their rates (12 ``ship.*`` signals), the
+measured ``sheave_angle`` and the measured ``tension.winch``; outputs ``winch.phi_sp``
+[rad] and ``winch.phi_sp_rate`` [rad/s].
 
-The algorithm is algebraic, so the FMU has direct feedthrough: the outputs are
+The motion algorithms are algebraic, so the FMU has direct feedthrough: the outputs are
 recomputed whenever inputs or parameters are set (also in initialisation mode, so that a
 master exchanging values before leaving it sees the nominal set-point), and ``do_step`` only checks
 that the last inputs were valid. Non-finite ship inputs keep the previous outputs and
 make the next step return ``fmi2Discard`` with a message. A missing or non-finite
 ``sheave_angle`` is "not measured": the rigorous algorithms then use ``theta_nom``
 (controllers/README.md) and a warning is logged once.
+
+``constant_tension`` (:class:`~controllers.TensionControl`) has a state: its outputs are
+the set-point its state holds (no feedthrough from the tension), and ``do_step`` reads
+``tension.winch`` at the step's start and moves the controller to the step's end. A
+non-finite tension refuses the step (``fmi2Discard``, state unchanged).
 """
 
 from __future__ import annotations
@@ -21,21 +28,36 @@ from typing import Any
 
 from pythonfmu.enums import Fmi2Status
 
+from towcable_fmu.errors import SceneError
 from towcable_fmu.fmi.slave import ContractSlave, ShipStateReader
 
 from .config import SetpointConfig
 from .setpoint import SetpointAlgorithm
+from .tension import TensionControl
+
+#: Parameters whose value 0 means "not set" (None in :class:`SetpointConfig`).
+_ZERO_IS_UNSET = ("max_payout", "max_winch_speed", "max_winch_acceleration", "tension_target", "tension_gain")
 
 
 def setpoint_config(p: dict[str, Any]) -> SetpointConfig:
-    """The set-point configuration from the HeaveCompensation parameters (name -> value)."""
-    return SetpointConfig(
-        algorithm=p["algorithm"],
-        reference_point=(p["reference_point.x"], p["reference_point.y"], p["reference_point.z"]),
-        winch_radius=p["winch_radius"], phi_nom=p["phi_nom"], theta_nom=p["theta_nom"],
-        waterline_z=p["waterline_z"],
-        max_payout=None if p["max_payout"] == 0.0 else p["max_payout"],
-        max_winch_speed=None if p["max_winch_speed"] == 0.0 else p["max_winch_speed"])
+    """The set-point configuration from the HeaveCompensation parameters (name -> value).
+
+    Raises
+    ------
+    SceneError
+        Naming the parameter, its value and what is allowed.
+    """
+    try:
+        return SetpointConfig(
+            algorithm=p["algorithm"],
+            reference_point=(p["reference_point.x"], p["reference_point.y"], p["reference_point.z"]),
+            winch_radius=p["winch_radius"], phi_nom=p["phi_nom"], theta_nom=p["theta_nom"],
+            waterline_z=p["waterline_z"], **{name: None if p[name] == 0.0 else p[name] for name in _ZERO_IS_UNSET},
+            key="")
+    except SceneError as exc:
+        if exc.key in _ZERO_IS_UNSET and exc.value is None:  # required and left at 0 (not set)
+            raise SceneError(exc.key, 0.0, f"{exc.allowed} for algorithm = {p['algorithm']!r}") from None
+        raise
 
 
 class HeaveCompensation(ContractSlave):
@@ -45,17 +67,26 @@ class HeaveCompensation(ContractSlave):
 
     def __init__(self, **kwargs) -> None:
         super().__init__(**kwargs)
-        self.algorithm: SetpointAlgorithm | None = None
+        self.algorithm: SetpointAlgorithm | TensionControl | None = None
         self.bad_inputs: list[str] = []
         self._warned_fallback = False
         self._ship = ShipStateReader(tuple(v.name for v in self.spec.inputs if v.name.startswith("ship.")))
 
     def _build(self) -> None:
-        self.algorithm = SetpointAlgorithm(setpoint_config({v.name: self.values[v.name]
-                                                            for v in self.spec.parameters}))
+        config = setpoint_config({v.name: self.values[v.name] for v in self.spec.parameters})
+        self.algorithm = TensionControl(config) if config.method == "tension" else SetpointAlgorithm(config)
+
+    @property
+    def _tension_control(self) -> bool:
+        return isinstance(self.algorithm, TensionControl)
 
     def _compute(self) -> None:
-        self.bad_inputs = [n for n in self.non_finite_inputs() if n != "sheave_angle"]
+        if self._tension_control:  # the set-point of the controller's state: no feedthrough
+            self.bad_inputs = [n for n in self.non_finite_inputs() if n == "tension.winch"]
+            sp = self.algorithm.setpoint()
+            self.set_outputs({"winch.phi_sp": sp.phi_sp, "winch.phi_sp_rate": sp.phi_sp_rate})
+            return
+        self.bad_inputs = [n for n in self.non_finite_inputs() if n not in ("sheave_angle", "tension.winch")]
         if self.bad_inputs:
             return
         ship = self._ship(self.values)
@@ -70,7 +101,7 @@ class HeaveCompensation(ContractSlave):
     def _initialize(self) -> None:
         self._build()
         self._compute()
-        if self.bad_inputs:
+        if self.bad_inputs and not self._tension_control:  # the tension is needed by the first step only
             raise ValueError("non-finite inputs at initialisation: " + ", ".join(self.bad_inputs))
 
     def _inputs_changed(self) -> None:
@@ -91,11 +122,18 @@ class HeaveCompensation(ContractSlave):
             self.log_error("non-finite inputs " + ", ".join(f"{n} = {self.values[n]!r}" for n in self.bad_inputs)
                            + ": the set-point keeps its last value and the step is refused", Fmi2Status.discard)
             return False
+        if self._tension_control:
+            self.timed(self.algorithm.advance, self.values["tension.winch"], dt)
+            self._compute()
         return True
 
     def _model_state(self) -> Any:
-        return {"bad_inputs": list(self.bad_inputs)}
+        return {"bad_inputs": list(self.bad_inputs),
+                "control": self.algorithm.get_state() if self._tension_control else None}
 
     def _restore_model_state(self, data: Any) -> None:
         self._build()
         self.bad_inputs = list(data["bad_inputs"])
+        if data.get("control") is not None and self._tension_control:
+            self.algorithm.set_state(data["control"])
+            self._compute()

@@ -94,6 +94,9 @@ class SetpointAlgorithm:
     """
 
     def __init__(self, config: SetpointConfig) -> None:
+        if config.method == "tension":
+            raise ValueError("constant_tension depends on the measured tension and has a state: use "
+                             "controllers.TensionControl")
         self.config = config
         self._s_ref = np.array(config.reference_point, dtype=np.float64)
 

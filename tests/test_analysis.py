@@ -283,3 +283,21 @@ def test_study_rejects_bad_settings():
         run_study(["none", "none"], duration=10.0, verbose=False)
     with pytest.raises(SceneError, match="fraction"):
         run_study(["none"], duration=10.0, settle=1.0, fraction=0.0, verbose=False)
+
+
+def test_study_compares_a_constant_tension_winch(fmu_paths, tmp_path):
+    """The constant-tension winch in the study: its target defaults to the static winch
+    tension, which the run's mean tension then holds (integral action), and it pays out
+    to take up part of the heave: less tension variation at the sheave than no
+    compensation in the same sea."""
+    from towcable_fmu.analysis.compensation_study import run_study
+    from towcable_fmu.simulation import Simulation
+
+    result = run_study(["none", "constant_tension"], duration=40.0, step=0.01, output_dir=tmp_path, settle=10.0,
+                       fmus=fmu_paths, verbose=False)
+    target = Simulation.from_scene("full_scale").initialize()["tension.winch"]
+    run = result.runs["constant_tension"]
+    assert np.mean(run.series["tension.winch"][run.window]) == pytest.approx(target, rel=0.01)
+    assert run.stats["tension.sheave.std"] < 0.8 * result.runs["none"].stats["tension.sheave.std"]
+    assert run.stats["winch.payout.range"] > 0.1
+    assert f"target {target:.6g} N" in result.files["table"].read_text(encoding="utf-8")

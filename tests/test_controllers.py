@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from controllers import (
-    ALGORITHMS,
+    MOTION_ALGORITHMS,
     SetpointAlgorithm,
     SetpointConfig,
     setpoint_config_from_table,
@@ -197,7 +197,7 @@ def test_winch_speed_limit_clips_rate_only():
 
 # --------------------------------------------------------------------- series
 
-@pytest.mark.parametrize("name", ALGORITHMS)
+@pytest.mark.parametrize("name", MOTION_ALGORITHMS)
 def test_series_matches_single_evaluations(name):
     times = np.linspace(0.0, 10.0, 6)
     ships = np.array([smooth_ship(t) for t in times])

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -159,6 +160,8 @@ def test_towcable_on_a_new_machine_compiles_nothing_and_agrees_with_kernels_comp
     for name, data in carried.items():
         for path in build_machine_paths():
             assert path.encode() not in data, (name, path)
+        for folder in re.finditer(rb"([\w./+-]*)/(site-packages|python3\.\d+)/", data):  # of any Python
+            assert re.fullmatch(rb"[^/]*\./*", folder.group(1)), (name, folder.group(0))  # only ./// + name
     fresh = _run(fresh_venv, kernel_fmu, tmp_path / "fresh-cache", tmp_path)
     assert not any("compiled the numerical kernels" in m for m in fresh["log"]), fresh["log"]
     assert fresh["numba_cpu"] == TARGET

@@ -157,7 +157,8 @@ def cmd_study_compensation(args: argparse.Namespace) -> int:
     from .analysis.compensation_study import run_study
 
     result = run_study(args.algorithms, duration=args.duration, step=args.step, output_dir=args.output,
-                       settle=args.settle, fraction=args.fraction, fmu_dir=args.fmus, verbose=not args.quiet)
+                       settle=args.settle, fraction=args.fraction, fmu_dir=args.fmus, verbose=not args.quiet,
+                       tension_target=args.tension_target, tension_gain=args.tension_gain)
     print(result.files["table"].read_text(encoding="utf-8"))
     return 0
 
@@ -244,7 +245,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="no progress or summary on stderr")
     p.set_defaults(func=cmd_cosim)
 
-    from .analysis.compensation_study import DEFAULT_ALGORITHMS, DEFAULT_SETTLE
+    from .analysis.compensation_study import DEFAULT_ALGORITHMS, DEFAULT_SETTLE, DEFAULT_TENSION_GAIN
 
     p = sub.add_parser("study-compensation", help="compare heave-compensation algorithms (towed-body ellipsoid, "
                                                   "tensions, payout) on the full_scale scene",
@@ -262,6 +263,12 @@ def build_parser() -> argparse.ArgumentParser:
                         "20 s ramp-in plus three time constants of the towed body's mean depth)")
     p.add_argument("--fraction", type=float, default=0.95,
                    help="share of the towed-body positions inside the ellipsoid, in (0, 1] (default 0.95)")
+    p.add_argument("--tension-target", type=_positive, default=None,
+                   help="constant_tension: the winch's target tension [N] (default: the scene's static tension at "
+                        "the winch)")
+    p.add_argument("--tension-gain", type=_positive, default=DEFAULT_TENSION_GAIN,
+                   help=f"constant_tension: payout rate per newton above the target [m/(s N)] (default "
+                        f"{DEFAULT_TENSION_GAIN:g})")
     p.add_argument("--output", default="out/compensation", help="output folder (default out/compensation)")
     p.add_argument("--fmus", default="fmus", help="folder of the FMUs (built there when missing or stale; default fmus/)")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")

@@ -197,13 +197,17 @@ COMPENSATION_DEFAULTS: dict[str, str] = {
     "waterline_z": "water.surface_z (0 without water)",
     "max_payout": "absent",
     "max_winch_speed": "absent",
+    "max_winch_acceleration": "absent",
+    "tension_target": "absent (required by constant_tension)",
+    "tension_gain": "absent (required by constant_tension)",
 }
 
 
 #: Meanings of ``[compensation]`` keys whose docstring entry does not read well alone.
 COMPENSATION_DOCS: dict[str, str] = {
     "algorithm": "set-point algorithm: W(2) sheave or W(1) waterline reference, simplified (nominal departure "
-                 "angle) or rigorous (measured sheave angle); 'none' holds the winch",
+                 "angle) or rigorous (measured sheave angle); constant_tension: a constant-tension winch (payout "
+                 "from the measured tension); 'none' holds the winch",
 }
 
 

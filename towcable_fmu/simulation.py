@@ -92,9 +92,15 @@ class Simulation(SimulationDriver):
         self._turbulence_settings = None if scene.water is None else scene.water.turbulence
         #: the compensation's settings over the scene's geometry (None: the set-point is given)
         self._compensation_table = None if scene.compensation is None else compensation_table(scene)
-        self.compensation = None  # the set-point algorithm, built at initialisation
+        #: the set-point algorithm (built at initialisation: it may need the steady departure
+        #: angle), or the constant-tension winch's controller (built here: its state is restored)
+        self.compensation = None
         if self._compensation_table is not None:
-            compensation_config(self._compensation_table, 0.0)  # validate the table now, before any computation
+            config = compensation_config(self._compensation_table, 0.0)  # validated now, before any computation
+            if config.method == "tension":
+                from controllers import TensionControl
+
+                self.compensation = TensionControl(config)
         self.state = genalpha.new_state(self.model)
         self.workspace = genalpha.new_workspace(self.model)
         self._statics: dict[str, float] = {}
@@ -178,7 +184,13 @@ class Simulation(SimulationDriver):
                              "solver.statics_wall_time": result.wall_time}
             st.q[:] = result.q
         self._start_turbulence(t0)
-        if self._compensation_table is not None:
+        if self._tension_control():  # starts at the winch's set-point and measures the tension from here on
+            config = self.compensation.config
+            self.compensation.set_state({"payout": (config.phi_nom - self._setpoint[0]) * config.winch_radius,
+                                         "rate": 0.0})
+            self.workspace.ship[:, :] = ship0
+            self.outputs()
+        elif self._compensation_table is not None:
             from controllers import SetpointAlgorithm
 
             theta = self._compensation_table.get("theta_nom")
@@ -310,16 +322,34 @@ class Simulation(SimulationDriver):
 
     def _setpoints_at(self, times: np.ndarray, ships: np.ndarray) -> np.ndarray:
         """The drive table's winch set-points: a compensating scene's algorithm at the knots,
-        with the measured sheave angle (rigorous algorithms) of the current state; else the
-        set-point held."""
+        with the measured sheave angle (rigorous algorithms) of the current state, or the
+        constant-tension winch's set-point from the tension of the current state (one
+        control interval: the table's span); else the set-point held."""
         if self.compensation is None:
             return np.tile(self._setpoint, (times.size, 1))
+        if self._tension_control():  # the rate decided at the last sample; then the next from the tension now
+            sp = self.compensation.setpoint()
+            self.compensation.advance(self._measured_tension(), float(times[-1] - times[0]))
+            setpoints = np.column_stack([sp.phi_sp + sp.phi_sp_rate * (times - times[0]),
+                                         np.full(times.size, sp.phi_sp_rate)])
+            self._setpoint = (float(setpoints[-1, 0]), float(setpoints[-1, 1]))
+            return setpoints
         # the measured sheave angle (rigorous algorithms) is that at the start of the interval
-        angle = self._last_outputs.get("sheave_angle", np.nan) if self.compensation.config.rigorous else np.nan
+        angle = self._current_outputs().get("sheave_angle", np.nan) if self.compensation.config.rigorous else np.nan
         sp = self.compensation.compute_series(ships, np.full(times.size, angle))
         setpoints = np.column_stack([sp.phi_sp, sp.phi_sp_rate])
         self._setpoint = (float(setpoints[-1, 0]), float(setpoints[-1, 1]))
         return setpoints
+
+    def _current_outputs(self) -> dict[str, float]:
+        """The outputs of the current state (the latest, unless the state moved since)."""
+        return self._last_outputs if self._last_outputs.get("time") == self.time else self.outputs()
+
+    def _measured_tension(self) -> float:
+        """The tension a constant-tension winch measures [N]: at the drum (``tension.winch``),
+        else at the top of the cable."""
+        out = self._current_outputs()
+        return float(out["tension.winch"] if "tension.winch" in out else out["tension.top"])
 
     def _advance(self, dt: float, ship: np.ndarray, setpoint: tuple[float, float] | None) -> None:
         """One communication step: the ship state at its start extrapolated with constant
@@ -384,7 +414,8 @@ class Simulation(SimulationDriver):
         prescribed end (the consistent nodal force, which converges faster than the
         strain), else the axial force from the strain; ``tension.towbody`` is the force
         the cable exerts on the body (its mass times acceleration minus its other forces).
-        The latest are kept: a rigorous compensation measures the sheave angle in them.
+        The latest are kept: a rigorous compensation measures the sheave angle in them, a
+        constant-tension winch the tension.
         """
         return super().outputs()
 
@@ -544,6 +575,7 @@ class Simulation(SimulationDriver):
 
     def _extra_state(self) -> dict[str, Any]:
         return {"setpoint": list(self._setpoint),
+                "winch_control": self.compensation.get_state() if self._tension_control() else None,
                 "turbulence_t0": None if self.turbulence is None else self.turbulence.t0,
                 "viv": None if self.viv is None else self.viv.get_state()}
 
@@ -552,25 +584,33 @@ class Simulation(SimulationDriver):
         if t0 is not None and (self.turbulence is None or self.turbulence.t0 != t0):
             self._start_turbulence(float(t0))
         self._setpoint = (float(data["setpoint"][0]), float(data["setpoint"][1]))
+        if data.get("winch_control") is not None and self._tension_control():
+            self.compensation.set_state(data["winch_control"])
         if self.viv is not None and data.get("viv") is not None:
             self.viv.set_state(data["viv"])
 
     def _restored(self) -> None:
         self._stepped = None
+        self._last_outputs = {}  # they were of another state
         self._cover(self.time)
         genalpha.refactorize_from_state(self.model, self.options, self.state, self.workspace)
 
     # ------------------------------------------------------------------- run
-    def _rigorous(self) -> bool:
-        """Whether the set-point needs the measured sheave angle of the latest state."""
-        return self.compensation is not None and self.compensation.config.rigorous
+    def _tension_control(self) -> bool:
+        """Whether the winch is a constant-tension winch (its controller: ``self.compensation``)."""
+        return self.compensation is not None and self.compensation.config.method == "tension"
+
+    def _feedback(self) -> bool:
+        """Whether the set-point needs a measurement of the latest state (the sheave angle of
+        a rigorous compensation, the tension of a constant-tension winch)."""
+        return self._tension_control() or (self.compensation is not None and self.compensation.config.rigorous)
 
     def _block_size(self, interval: float) -> int:
-        # per sample when the set-point needs the measured angle of the latest state; else
+        # per sample when the set-point needs a measurement of the latest state; else
         # at least BLOCK_STEPS steps of the nominal size (each block pays the drive table's
         # motion and set-points in Python and a kernel call: 10 % of full_scale's run with
         # blocks of 1 s, 20 steps)
-        if self._rigorous():
+        if self._feedback():
             return 1
         return max(super()._block_size(interval), int(BLOCK_STEPS * self.options.h_max / interval))
 
@@ -578,13 +618,13 @@ class Simulation(SimulationDriver):
         """Step through the sample times ``block`` [s] and write their outputs into ``rows``.
 
         In the compiled recording loop, the integrator keeps its own steps and reads the
-        samples from its interpolant (not with a rigorous compensation, whose set-point
-        needs the state at every sample); a rigid load's outputs and the wake coupling are
-        recorded in Python, one sample at a time.
+        samples from its interpolant (not with a set-point from measurements, which needs the
+        state at every sample); a rigid load's outputs and the wake coupling are recorded
+        in Python, one sample at a time.
         """
-        rigorous = self._rigorous()
+        feedback = self._feedback()
         in_python = self.model.terms.rigid_load.enabled or self.viv is not None
-        interpolate = not in_python and not rigorous
+        interpolate = not in_python and not feedback
         h = self.options.h_max
         if interpolate:
             marks = self._interpolation_marks(block, self.time, float(self.workspace.step_start[0]), h, t_land)
@@ -603,8 +643,8 @@ class Simulation(SimulationDriver):
                 if not np.all(np.isfinite(rows[reached])):
                     break
                 reached += 1
-        if rigorous:
-            self.outputs()  # the measured angle for the next sample's set-point
+        if feedback:
+            self.outputs()  # the measurement for the next sample's set-point
         return reached
 
     def _failure(self, t: float) -> SolverError:

@@ -83,6 +83,11 @@ class CosimResult:
     timing: dict[str, float]
 
 
+#: HeaveCompensation parameters a scene's ``[compensation]`` may give beyond the geometry
+_EXTRA = ("theta_nom", "waterline_z", "max_payout", "max_winch_speed", "max_winch_acceleration", "tension_target",
+          "tension_gain")
+
+
 def compensation_geometry(scene, config: CosimConfig) -> dict[str, Any]:
     """Algorithm, winch radius, nominal winch rotation and reference point for HeaveCompensation.
 
@@ -113,6 +118,7 @@ def compensation_geometry(scene, config: CosimConfig) -> dict[str, Any]:
                 "reference_point": (0.0, 0.0, 0.0), "has_sheave": sheave is not None,
                 "source": {**source, "geometry": "unused (no winch)"}}
     table["algorithm"] = algorithm
+    table.update({k: v for k, v in config.controller_parameters.items() if k in _EXTRA and v != 0.0})
     cfg = compensation_config({**compensation_table(scene), **table}, float(table.get("theta_nom", 0.0)))
     geometry = {"winch_radius": cfg.winch_radius, "phi_nom": cfg.phi_nom, "reference_point": cfg.reference_point}
     for key in geometry:
@@ -120,7 +126,7 @@ def compensation_geometry(scene, config: CosimConfig) -> dict[str, Any]:
         source[key] = "given" if given is not None else "scene"
         if given is not None:
             geometry[key] = given
-    extra = {k: table[k] for k in ("theta_nom", "waterline_z", "max_payout", "max_winch_speed") if k in table}
+    extra = {k: table[k] for k in _EXTRA if k in table}
     extra.setdefault("waterline_z", cfg.waterline_z)
     return {"algorithm": algorithm, "extra": extra, "winch_radius": float(geometry["winch_radius"]),
             "phi_nom": float(geometry["phi_nom"]),
