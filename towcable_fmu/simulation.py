@@ -16,7 +16,8 @@ from . import drive as drive_poly
 from .ancf import element, measures
 from .ancf.initial_layout import initial_coordinates, layout_from_scene
 from .ancf.mesh import build_mesh, build_model, held_load_forces
-from .ancf.model import CableModel, Mesh
+from .ancf.model import TAUT_RESIDUAL, CableModel, Mesh
+from .ancf.remesh import split_coordinates, split_mesh
 from .ancf.system import residual
 from .compensation_setup import compensation_config, compensation_table
 from .ancf.forces.contact import elements
@@ -358,6 +359,54 @@ class Simulation(SimulationDriver):
             self._setpoint = setpoint
         t0 = self.time
         self._integrate_to(t0 + dt, drive_poly.taylor_drive(t0, ship, self._setpoint))
+
+    def split_element(self, element: int, xi: float = 0.5) -> dict[str, float]:
+        """Split element ``element`` at normalised position ``xi`` in (0, 1) during a run,
+        without disturbing the cable: the new node takes the value and slope of the
+        element's cubic there (:mod:`towcable_fmu.ancf.remesh`), for the coordinates,
+        velocities, accelerations and the integrator's auxiliary accelerations. The shape,
+        the velocities and the kinetic, bending and gravity energies are unchanged; the
+        tension (the decoupled axial strain) and the loads integrated on each element's
+        grid of points (contact, drag) change by their discretisation error, now on the
+        finer elements. The next step factorises its matrix afresh. A state saved before the
+        split belongs to the old mesh (:meth:`set_state` refuses it).
+
+        Returns
+        -------
+        dict
+            Outputs after the split.
+
+        Raises
+        ------
+        SceneError
+            If ``element`` or ``xi`` is out of range, or the scene has wake oscillators
+            (their states belong to the elements); nothing is changed.
+        """
+        self._require_initialized()
+        if self.viv is not None:
+            raise SceneError("split_element", element, "a scene without wake oscillators (viv): their states "
+                             "belong to the elements")
+        try:
+            mesh = split_mesh(self.mesh, element, xi)
+        except ValueError as exc:
+            raise SceneError("split_element", (element, xi), str(exc)) from None
+        old, st, ship = self.mesh, self.state, self.workspace.ship.copy()
+        model = build_model(self.scene, mesh)._replace(water=self.model.water)
+        state = genalpha.new_state(model)
+        for name in ("q", "v", "a", "abar"):
+            getattr(state, name)[:] = split_coordinates(getattr(st, name), old, element, xi)
+        for name in ("phi", "clock", "stats"):
+            getattr(state, name)[:] = getattr(st, name)
+        state.jac[:] = st.jac
+        state.jac[genalpha.JAC_VALID] = 0.0  # the matrix of the old mesh: factorise afresh
+        self.mesh, self.model, self.state = mesh, model, state
+        self.workspace = genalpha.new_workspace(model)
+        self._stepped = None
+        self._snapshot_buffers = None
+        self.workspace.ship[:, :] = ship
+        residual(model, state.q, state.v, state.a, self.time, self.workspace.ship, self.workspace.r)
+        state.taut[:] = model.el_taut[TAUT_RESIDUAL]  # the taut points of the new elements
+        return self.outputs()
 
     # --------------------------------------------------------------- outputs
     def reactions(self) -> np.ndarray:

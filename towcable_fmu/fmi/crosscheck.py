@@ -67,6 +67,12 @@ def sheave_angle_signal(t: np.ndarray) -> np.ndarray:
     return 0.3 + 0.05 * np.sin(0.2 * math.pi * t)
 
 
+def tension_signal(t: np.ndarray) -> np.ndarray:
+    """Prescribed winch tension input of HeaveCompensation [N]: 4000 + 200 sin(0.4 pi t)
+    (read by its constant_tension algorithm only)."""
+    return 4000.0 + 200.0 * np.sin(0.4 * math.pi * t)
+
+
 def model_folder(root: str | Path, model: str) -> Path:
     """``root/fmus/2.0/cs/linux64/towcable/<version>/<model>``."""
     return Path(root).joinpath(*PLATFORM_PATH, TOOL, version("towcable"), model)
@@ -152,6 +158,7 @@ def write_crosscheck(fmus: Mapping[str, str | Path], root: str | Path) -> dict[s
         folder.mkdir(parents=True, exist_ok=True)
         t = exp.times()
         signals["sheave_angle"] = sheave_angle_signal(t)
+        signals["tension.winch"] = tension_signal(t)
         input_names = specs[model].names("input")
         inputs = {"time": t, **{n: signals[n] for n in input_names}} if input_names else None
         extra = ship_names if model == "ShipMotion" else tuple(n for n in specs[model].names("output")
