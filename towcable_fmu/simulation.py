@@ -17,7 +17,7 @@ from .ancf import element, measures
 from .ancf.initial_layout import initial_coordinates, layout_from_scene
 from .ancf.mesh import build_mesh, build_model, held_load_forces
 from .ancf.model import TAUT_RESIDUAL, CableModel, Mesh
-from .ancf.remesh import split_coordinates, split_mesh
+from .ancf.remesh import merge_coordinates, merge_defect, merge_mesh, split_coordinates, split_mesh
 from .ancf.system import residual
 from .compensation_setup import compensation_config, compensation_table
 from .ancf.forces.contact import elements
@@ -382,19 +382,48 @@ class Simulation(SimulationDriver):
             If ``element`` or ``xi`` is out of range, or the scene has wake oscillators
             (their states belong to the elements); nothing is changed.
         """
-        self._require_initialized()
-        if self.viv is not None:
-            raise SceneError("split_element", element, "a scene without wake oscillators (viv): their states "
-                             "belong to the elements")
         try:
             mesh = split_mesh(self.mesh, element, xi)
         except ValueError as exc:
             raise SceneError("split_element", (element, xi), str(exc)) from None
-        old, st, ship = self.mesh, self.state, self.workspace.ship.copy()
+        old = self.mesh
+        return self._remesh("split_element", mesh, lambda x: split_coordinates(x, old, element, xi))
+
+    def merge_elements(self, element: int) -> dict[str, float]:
+        """Merge elements ``element`` and ``element + 1`` (of one segment) into one during a
+        run: the node between them is dropped (:mod:`towcable_fmu.ancf.remesh`). Exact when
+        the two form one cubic (a split undone); otherwise the merged element misses the
+        dropped node by ``merge_defect`` (returned as ``remesh.position_defect`` [m] and
+        ``remesh.slope_defect`` [-] beside the outputs). The next step factorises afresh.
+
+        Raises
+        ------
+        SceneError
+            If there is no such pair in one segment, or the scene has wake oscillators;
+            nothing is changed.
+        """
+        try:
+            mesh = merge_mesh(self.mesh, element)
+        except ValueError as exc:
+            raise SceneError("merge_elements", element, str(exc)) from None
+        old = self.mesh
+        position, slope = merge_defect(self.state.q, old, element)
+        out = self._remesh("merge_elements", mesh, lambda x: merge_coordinates(x, old, element))
+        return {**out, "remesh.position_defect": position, "remesh.slope_defect": slope}
+
+    def _remesh(self, key: str, mesh: Mesh, transfer) -> dict[str, float]:
+        """Move the running cable onto ``mesh``: the model rebuilt for it, every coordinate
+        array of the state through ``transfer`` (old vector -> new), the matrix
+        factorised afresh by the next step; the outputs after."""
+        self._require_initialized()
+        if self.viv is not None:
+            raise SceneError(key, "a scene with wake oscillators", "a scene without them (viv): their states belong "
+                             "to the elements")
+        st, ship = self.state, self.workspace.ship.copy()
         model = build_model(self.scene, mesh)._replace(water=self.model.water)
         state = genalpha.new_state(model)
         for name in ("q", "v", "a", "abar"):
-            getattr(state, name)[:] = split_coordinates(getattr(st, name), old, element, xi)
+            getattr(state, name)[:] = transfer(getattr(st, name))
         for name in ("phi", "clock", "stats"):
             getattr(state, name)[:] = getattr(st, name)
         state.jac[:] = st.jac
@@ -403,6 +432,7 @@ class Simulation(SimulationDriver):
         self.workspace = genalpha.new_workspace(model)
         self._stepped = None
         self._snapshot_buffers = None
+        self._last_outputs = {}
         self.workspace.ship[:, :] = ship
         residual(model, state.q, state.v, state.a, self.time, self.workspace.ship, self.workspace.r)
         state.taut[:] = model.el_taut[TAUT_RESIDUAL]  # the taut points of the new elements

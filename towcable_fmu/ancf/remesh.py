@@ -15,8 +15,10 @@ finer interpolant and the tension changes by the old one's error (in full_scale'
 span 1e-5 of the strain energy). Loads integrated on each element's grid of points
 (contact, fluid) change by their quadrature error, now on the finer grid.
 
-This is the exact half of the remeshing a deploying winch needs (issue 20); merging two
-elements back is exact only when they form one cubic.
+Merging two elements of one segment into one (:func:`merge_mesh`) drops the node between
+them: exact when the two form one cubic (a split undone), otherwise the merged element
+misses the dropped node by :func:`merge_defect` (for a smooth shape, O(L^4) of the merged
+length L). Both are the remeshing a deploying and recovering winch needs (issue 20).
 """
 
 from __future__ import annotations
@@ -71,3 +73,47 @@ def split_coordinates(x: np.ndarray, mesh: Mesh, e: int, xi: float = 0.5) -> np.
     value = element.shape_functions(xi, length) @ nodal
     slope = element.shape_derivatives(xi, length) @ nodal
     return np.concatenate([x[:6 * (e + 1)], value, slope, x[6 * (e + 1):]])
+
+
+def _check_pair(mesh: Mesh, e: int) -> None:
+    if not (isinstance(e, (int, np.integer)) and 0 <= e < mesh.n_elements - 1):
+        raise ValueError(f"element = {e!r} has no next element to merge with (0 ... {mesh.n_elements - 2})")
+    if mesh.segment_of_element[e] != mesh.segment_of_element[e + 1]:
+        raise ValueError(f"elements {e} and {e + 1} belong to different segments (their properties differ)")
+
+
+def merge_mesh(mesh: Mesh, e: int) -> Mesh:
+    """``mesh`` with elements ``e`` and ``e + 1`` (of one segment) merged into one.
+
+    Raises
+    ------
+    ValueError
+        If ``e + 1`` is not an element or the two belong to different segments.
+    """
+    _check_pair(mesh, e)
+    lengths = np.concatenate([mesh.lengths[:e], [mesh.lengths[e] + mesh.lengths[e + 1]], mesh.lengths[e + 2:]])
+    return Mesh(lengths, np.delete(mesh.segment_of_element, e), np.delete(mesh.node_arc, e + 1))
+
+
+def merge_coordinates(x: np.ndarray, mesh: Mesh, e: int) -> np.ndarray:
+    """Coordinate vector ``x`` of ``mesh`` without the node between elements ``e`` and
+    ``e + 1`` (see :func:`merge_mesh`): the merged element keeps the outer nodes, so it is
+    the two elements exactly when they form one cubic (:func:`merge_defect`)."""
+    _check_pair(mesh, e)
+    x = np.asarray(x, dtype=float)
+    return np.concatenate([x[:6 * (e + 1)], x[6 * (e + 2):]])
+
+
+def merge_defect(x: np.ndarray, mesh: Mesh, e: int) -> tuple[float, float]:
+    """How far the merged element of :func:`merge_coordinates` misses the node it drops:
+    the distance [m] between the node's position and the merged cubic there, and the
+    norm [-] of the difference of the slopes (0, 0 when the two elements form one cubic)."""
+    _check_pair(mesh, e)
+    x = np.asarray(x, dtype=float)
+    length = mesh.lengths[e] + mesh.lengths[e + 1]
+    xi = mesh.lengths[e] / length
+    nodal = np.concatenate([x[6 * e: 6 * e + 6], x[6 * (e + 2): 6 * (e + 2) + 6]]).reshape(4, 3)
+    node = x[6 * (e + 1): 6 * (e + 1) + 6]
+    value = element.shape_functions(xi, length) @ nodal
+    slope = element.shape_derivatives(xi, length) @ nodal
+    return float(np.linalg.norm(value - node[:3])), float(np.linalg.norm(slope - node[3:]))
