@@ -51,6 +51,16 @@ def test_split_outside_the_mesh_is_refused(e, xi):
         split_mesh(mesh, e, xi)
 
 
+def _twins_in_heave() -> tuple[Simulation, Simulation]:
+    """Two full_scale runs at 5 s of a regular 1 m heave, uncompensated."""
+    overrides = {"motion.type": "regular", "motion.heave.amplitude": 1.0, "motion.heave.period": 6.0,
+                 "compensation.algorithm": "none"}
+    twins = Simulation.from_scene("full_scale", overrides), Simulation.from_scene("full_scale", overrides)
+    for sim in twins:
+        sim.run(5.0)
+    return twins
+
+
 def test_a_running_cable_does_not_notice_a_split():
     """full_scale at 5 s (sheave contact, drag, towed body): split an element of the
     free span and one in contact with the sheave. What depends on the cubic alone
@@ -59,12 +69,7 @@ def test_a_running_cable_does_not_notice_a_split():
     (measured 8e-6 of it); the next 5 s agree with the unsplit run within the
     discretisation (strain, contact and drag now on the finer elements): sheave tension
     within 0.1 % of its range RMS (measured 0.02 N in 430 N)."""
-    overrides = {"motion.type": "regular", "motion.heave.amplitude": 1.0, "motion.heave.period": 6.0,
-                 "compensation.algorithm": "none"}
-    ref = Simulation.from_scene("full_scale", overrides)
-    sim = Simulation.from_scene("full_scale", overrides)
-    ref.run(5.0)
-    sim.run(5.0)
+    ref, sim = _twins_in_heave()
     before = sim.outputs()
     first, last = sim.contact_state()["ends"][1, [0, 2]].astype(int)  # elements meeting and leaving the sheave
     assert 0 <= first < last
@@ -148,15 +153,21 @@ def test_a_merge_in_the_free_span_leaves_the_run_within_its_discretisation():
     merged cubic misses the dropped node by the Hermite interpolation error of the
     catenary's shape (measured 0.5 mm); the next 10 s agree with the unmerged run within
     0.1 % of the sheave tension's range RMS (measured 0.05 N of 441 N)."""
-    overrides = {"motion.type": "regular", "motion.heave.amplitude": 1.0, "motion.heave.period": 6.0,
-                 "compensation.algorithm": "none"}
-    ref = Simulation.from_scene("full_scale", overrides)
-    sim = Simulation.from_scene("full_scale", overrides)
-    ref.run(5.0)
-    sim.run(5.0)
+    ref, sim = _twins_in_heave()
     assert sim.mesh.lengths[57] == sim.mesh.lengths[58] == 37.5
     out = sim.merge_elements(57)
     assert 0.0 < out["remesh.position_defect"] < 1e-3
     a, b = ref.run(10.0), sim.run(10.0)
     rms = np.sqrt(np.mean((a["tension.sheave"] - b["tension.sheave"]) ** 2))
     assert rms < 1e-3 * np.ptp(a["tension.sheave"])
+
+
+def test_a_split_mesh_initialises_again():
+    """The split mesh is the simulation's mesh from then on: initialising again solves
+    the statics on it (the same hanging cable: top tension within the solver's tolerance)."""
+    sim = Simulation.from_scene("hanging_cable")
+    top = sim.initialize()["tension.top"]
+    sim.split_element(0, 0.5)
+    again = sim.initialize()
+    assert sim.n_elements == Simulation.from_scene("hanging_cable").n_elements + 1
+    assert again["tension.top"] == pytest.approx(top, rel=1e-6)

@@ -429,6 +429,8 @@ class Simulation(SimulationDriver):
         state.jac[:] = st.jac
         state.jac[genalpha.JAC_VALID] = 0.0  # the matrix of the old mesh: factorise afresh
         self.mesh, self.model, self.state = mesh, model, state
+        if self._held_forces is not None:  # (statics of a later initialisation)
+            self._held_forces = held_load_forces(self.scene, model)
         self.workspace = genalpha.new_workspace(model)
         self._stepped = None
         self._snapshot_buffers = None
