@@ -242,3 +242,49 @@ def test_cosimulated_constant_tension_winch_follows_the_linearised_loop(fmu_path
     assert abs(phasor) == pytest.approx(abs(closed), rel=0.02)
     assert abs(np.angle(phasor / closed)) < 0.02
     assert c[0] == pytest.approx(target, rel=1e-3)
+
+
+# ---------------------------------------------------- more payout than the drum holds
+def test_an_unstable_tension_loop_stops_at_the_drum_instead_of_running_away():
+    """A gain far above the sampled loop's stability limit (full_scale: bandwidth g k
+    ~ 75 rad/s against a 10 ms control interval) makes the payout diverge; the run stops
+    with an error naming winch.payout and the gain as soon as the payout passes the cable
+    wound on the drum, instead of reeling out kilometres of cable the drum does not have."""
+    from towcable_fmu.errors import SolverError
+
+    sim = Simulation.from_scene("full_scale", {"compensation.algorithm": "constant_tension",
+                                               "compensation.tension_target": 3951.4,
+                                               "compensation.tension_gain": 5e-3})
+    with pytest.raises(SolverError, match=r"winch.payout = .* exceeds the 1.0\d* m the drum holds.*tension_gain"):
+        sim.run(60.0, 0.01)
+    assert sim.time < 10.0
+
+
+def test_a_step_beyond_the_drum_is_refused_and_changes_nothing():
+    from towcable_fmu.errors import SolverError
+
+    sim = Simulation.from_scene("full_scale", {"compensation.algorithm": "none"})
+    start = sim.initialize()
+    ship = sim.motion.evaluate(0.0)
+    radius = sim.output_scene.payout_radius
+    with pytest.raises(SolverError, match="winch.payout"):
+        sim.step(0.5, ship, (PHI_NOM - 3.0 / radius, -1.0 / radius))  # 3 m out in half a second
+    assert sim.time == 0.0 and sim.outputs() == start
+    out = sim.step(0.5, ship, (PHI_NOM - 0.5 / radius, 0.0))  # towards 0.5 m: on the drum
+    assert 0.2 < out["winch.payout"] < 0.51
+
+
+def test_towcable_fmu_discards_a_step_beyond_the_drum(fmu_paths):
+    """fmi2Discard with the message; the outputs keep their values."""
+    from fmu_util import SMALL_SCENE, ship_inputs
+
+    fmu = open_fmu(fmu_paths, "TowCable", {"scene": str(SMALL_SCENE)})
+    fmu.exit_initialization()
+    before = outputs(fmu)
+    set_inputs(fmu, {"winch.phi_sp": before["winch.phi"] - 40.0, "winch.phi_sp_rate": -80.0})
+    mark = len(fmu.messages)
+    with pytest.raises(FMICallException):
+        fmu.fmu.doStep(0.0, 0.5)
+    assert "winch.payout" in fmu.log_text(mark), fmu.log_text(mark)
+    assert outputs(fmu) == before
+    fmu.free()

@@ -22,6 +22,7 @@ from .ancf.system import residual
 from .compensation_setup import compensation_config, compensation_table
 from .ancf.forces.contact import elements
 from .contact.cable import new_summary, surface_summary
+from .contact.surfaces import WINCH
 from .output_kernel import OUTPUT_FIELDS, OutputLayout, OutputScene, Recording, advance_recording
 from .errors import SceneError, SolverError
 from .rigid_body import angular_kinematics, tow_point_state
@@ -43,6 +44,7 @@ _NO_OUTPUTS = np.zeros(0, dtype=np.intp)
 _NO_ROWS = np.empty((1, 0))
 _ALL_OUTPUTS = np.arange(len(OUTPUT_FIELDS), dtype=np.intp)
 _NO_DRIVE = (np.zeros(1), np.zeros((1, 3, 7)))
+_PAYOUT = OUTPUT_FIELDS.index("winch.payout")
 
 
 def solver_options(scene: Scene) -> genalpha.SolverOptions:
@@ -107,6 +109,10 @@ class Simulation(SimulationDriver):
         self._statics: dict[str, float] = {}
         self.turbulence: TurbulenceSeries | None = None
         self._setpoint = (0.0, 0.0)
+        #: largest winch payout [m] the drum holds: the payout at initialisation plus the cable
+        #: then wound on the drum (None: no drum contact, no limit); and a sample beyond it
+        self._payout_limit: float | None = None
+        self._payout_exceeded: tuple[float, float] | None = None
         self._initialized = False
         self._last_outputs: dict[str, float] = {}
         #: all outputs at the state a step reached, recorded by the step's own kernel call
@@ -202,6 +208,8 @@ class Simulation(SimulationDriver):
             if setpoint is None:
                 sp = self.compensation.compute(ship0, None)
                 self._setpoint = (float(sp.phi_sp), float(sp.phi_sp_rate))
+        self.workspace.ship[:, :] = ship0
+        self._payout_limit = self._drum_payout_limit()
         drive = drive_poly.taylor_drive(t0, ship0, self._setpoint)
         if not genalpha.initial_acceleration(self.model, self.options, st, self.workspace, t0, *drive):
             raise SolverError("the initial state has no finite acceleration (singular mass matrix or "
@@ -280,6 +288,10 @@ class Simulation(SimulationDriver):
             raise SolverError(f"the solver could not advance from t = {t_start:.6g} s to t = {t_end:.6g} s: Newton "
                               f"failed at the minimum step size {self.options.h_min:g} s near t = {self.time:.6g} s"
                               f"{self._failure_hint()}")
+        if self._payout_limit is not None:
+            payout = float(self._output_array()[_PAYOUT])
+            if payout > self._payout_limit:
+                raise self._payout_error(self.time, payout)
 
     def _failure_hint(self) -> str:
         """What a failed step of a rigid-body scene may be due to (empty otherwise)."""
@@ -655,7 +667,7 @@ class Simulation(SimulationDriver):
         return self.state
 
     def _extra_state(self) -> dict[str, Any]:
-        return {"setpoint": list(self._setpoint),
+        return {"setpoint": list(self._setpoint), "payout_limit": self._payout_limit,
                 "winch_control": self.compensation.get_state() if self._tension_control() else None,
                 "turbulence_t0": None if self.turbulence is None else self.turbulence.t0,
                 "viv": None if self.viv is None else self.viv.get_state()}
@@ -665,6 +677,7 @@ class Simulation(SimulationDriver):
         if t0 is not None and (self.turbulence is None or self.turbulence.t0 != t0):
             self._start_turbulence(float(t0))
         self._setpoint = (float(data["setpoint"][0]), float(data["setpoint"][1]))
+        self._payout_limit = data.get("payout_limit")
         if data.get("winch_control") is not None and self._tension_control():
             self.compensation.set_state(data["winch_control"])
         if self.viv is not None and data.get("viv") is not None:
@@ -724,11 +737,36 @@ class Simulation(SimulationDriver):
                 if not np.all(np.isfinite(rows[reached])):
                     break
                 reached += 1
+        if self._payout_limit is not None and "winch.payout" in self.names:
+            beyond = np.flatnonzero(rows[:reached, self.names.index("winch.payout")] > self._payout_limit)
+            if beyond.size:
+                self._payout_exceeded = (float(block[beyond[0]]), float(rows[beyond[0], self.names.index("winch.payout")]))
+                return int(beyond[0])
         if feedback:
             self.outputs()  # the measurement for the next sample's set-point
         return reached
 
+    def _drum_payout_limit(self) -> float | None:
+        """The largest payout [m] of the current state's drum: the payout now plus the
+        unstretched cable from its end to where it leaves the drum (None: no drum contact)."""
+        if not (self.output_scene.has_winch and self.model.terms.contact.enabled):
+            return None
+        ends = self.contact_state()["ends"]
+        e = int(ends[WINCH, 2])
+        wound = 0.0 if e < 0 else float(self.mesh.node_arc[e] + ends[WINCH, 3] * self.mesh.lengths[e])
+        return float(self._output_array()[_PAYOUT]) + wound
+
+    def _payout_error(self, t: float, payout: float) -> SolverError:
+        return SolverError(f"winch.payout = {payout:.4g} m at t = {t:.6g} s exceeds the {self._payout_limit:.4g} m "
+                           "the drum holds (the payout at the start plus the cable then wound on it): the cable's end "
+                           "would leave the drum; limit the set-point (compensation.max_payout) or, with a "
+                           "constant-tension winch, lower compensation.tension_gain if the loop is unstable")
+
     def _failure(self, t: float) -> SolverError:
+        if self._payout_exceeded is not None:
+            error = self._payout_error(*self._payout_exceeded)
+            self._payout_exceeded = None
+            return error
         if self.time < t - 1e-12 * max(1.0, abs(t)):
             return SolverError(f"the solver could not advance to t = {t:.6g} s: Newton failed at the minimum step "
                                f"size {self.options.h_min:g} s near t = {self.time:.6g} s{self._failure_hint()}")
