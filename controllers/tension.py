@@ -57,17 +57,17 @@ class TensionControl:
     Parameters
     ----------
     config
-        A validated configuration with ``algorithm = "constant_tension"``.
-    payout
-        Initial payout L [m] (0: the winch at ``phi_nom``).
+        A validated configuration with ``algorithm = "constant_tension"``. The controller
+        starts at payout 0 (the winch at ``phi_nom``) and rest (:meth:`set_state` to start
+        elsewhere).
     """
 
-    def __init__(self, config: SetpointConfig, payout: float = 0.0) -> None:
+    def __init__(self, config: SetpointConfig) -> None:
         if config.algorithm != "constant_tension":
             raise ValueError(f"TensionControl needs algorithm 'constant_tension', got {config.algorithm!r}")
         self.config = config
         #: payout L [m] at the last control instant
-        self.payout = float(payout)
+        self.payout = 0.0
         #: commanded payout rate v [m/s] held since the last control instant
         self.rate = 0.0
 
@@ -83,7 +83,8 @@ class TensionControl:
     def advance(self, tension: float, dt: float) -> Setpoint:
         """Move to the next control instant ``dt`` [s] later: the payout by the rate held, the
         rate towards the law's from the ``tension`` [N] measured now. Returns the new
-        :meth:`setpoint` (``rate_clipped``: the speed or acceleration limit cut the law's rate).
+        :meth:`setpoint` (``rate_clipped``: a speed, acceleration or payout limit cut the law's
+        rate).
 
         Raises
         ------
