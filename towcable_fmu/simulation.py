@@ -110,9 +110,8 @@ class Simulation(SimulationDriver):
         self.turbulence: TurbulenceSeries | None = None
         self._setpoint = (0.0, 0.0)
         #: largest winch payout [m] the drum holds: the payout at initialisation plus the cable
-        #: then wound on the drum (None: no drum contact, no limit); and a sample beyond it
+        #: then wound on the drum (None: no drum contact, no limit)
         self._payout_limit: float | None = None
-        self._payout_exceeded: tuple[float, float] | None = None
         self._initialized = False
         self._last_outputs: dict[str, float] = {}
         #: all outputs at the state a step reached, recorded by the step's own kernel call
@@ -191,24 +190,21 @@ class Simulation(SimulationDriver):
                              "solver.statics_wall_time": result.wall_time}
             st.q[:] = result.q
         self._start_turbulence(t0)
-        if self._tension_control():  # starts at the winch's set-point and measures the tension from here on
+        self.workspace.ship[:, :] = ship0
+        if self._tension_control():  # starts at the winch's set-point, at rest
             config = self.compensation.config
             self.compensation.set_state({"payout": (config.phi_nom - self._setpoint[0]) * config.winch_radius,
                                          "rate": 0.0})
-            self.workspace.ship[:, :] = ship0
-            self.outputs()
         elif self._compensation_table is not None:
             from controllers import SetpointAlgorithm
 
             theta = self._compensation_table.get("theta_nom")
             if theta is None:  # the model's own steady-state departure angle (sheave, or drum)
-                self.workspace.ship[:, :] = ship0
                 theta = self.outputs()["sheave_angle"]
             self.compensation = SetpointAlgorithm(compensation_config(self._compensation_table, float(theta)))
             if setpoint is None:
                 sp = self.compensation.compute(ship0, None)
                 self._setpoint = (float(sp.phi_sp), float(sp.phi_sp_rate))
-        self.workspace.ship[:, :] = ship0
         self._payout_limit = self._drum_payout_limit()
         drive = drive_poly.taylor_drive(t0, ship0, self._setpoint)
         if not genalpha.initial_acceleration(self.model, self.options, st, self.workspace, t0, *drive):
@@ -507,8 +503,8 @@ class Simulation(SimulationDriver):
         prescribed end (the consistent nodal force, which converges faster than the
         strain), else the axial force from the strain; ``tension.towbody`` is the force
         the cable exerts on the body (its mass times acceleration minus its other forces).
-        The latest are kept: a rigorous compensation measures the sheave angle in them, a
-        constant-tension winch the tension.
+        The latest are kept (a set-point from measurements reads them, see
+        :meth:`_current_outputs`).
         """
         return super().outputs()
 
@@ -737,13 +733,11 @@ class Simulation(SimulationDriver):
                 if not np.all(np.isfinite(rows[reached])):
                     break
                 reached += 1
-        if self._payout_limit is not None and "winch.payout" in self.names:
-            beyond = np.flatnonzero(rows[:reached, self.names.index("winch.payout")] > self._payout_limit)
+        if self._payout_limit is not None:
+            payout = rows[:reached, self.names.index("winch.payout")]
+            beyond = np.flatnonzero(payout > self._payout_limit)
             if beyond.size:
-                self._payout_exceeded = (float(block[beyond[0]]), float(rows[beyond[0], self.names.index("winch.payout")]))
-                return int(beyond[0])
-        if feedback:
-            self.outputs()  # the measurement for the next sample's set-point
+                raise self._payout_error(float(block[beyond[0]]), float(payout[beyond[0]]))
         return reached
 
     def _drum_payout_limit(self) -> float | None:
@@ -763,10 +757,6 @@ class Simulation(SimulationDriver):
                            "constant-tension winch, lower compensation.tension_gain if the loop is unstable")
 
     def _failure(self, t: float) -> SolverError:
-        if self._payout_exceeded is not None:
-            error = self._payout_error(*self._payout_exceeded)
-            self._payout_exceeded = None
-            return error
         if self.time < t - 1e-12 * max(1.0, abs(t)):
             return SolverError(f"the solver could not advance to t = {t:.6g} s: Newton failed at the minimum step "
                                f"size {self.options.h_min:g} s near t = {self.time:.6g} s{self._failure_hint()}")
