@@ -24,9 +24,10 @@ from .contact.surfaces import SHEAVE, WINCH
 from .hydro.towbody import body_force
 from .kinematics import rotation_matrix
 from .rigid_body import angular_kinematics, tow_point_state
+from .ancf.feed import apply_feed
 from .ancf.prescribed import apply_prescribed
 from .drive import evaluate_drive
-from .numerics.genalpha import CLOCK_TIME
+from .numerics.genalpha import CLOCK_TIME, FEED_EVENT
 from .numerics.hermite import step_weights
 from .numerics.genalpha import advance as genalpha_advance
 
@@ -36,7 +37,7 @@ OUTPUT_FIELDS = ("tension.top", "tension.bottom", "tension.max", "tension.min", 
                  "contact.winch_force", "contact.sheave_force", "energy.contact", "tension.winch", "sheave_angle",
                  "tension.sheave", "contact.wrap_angle", "contact.detached",
                  "energy.kinetic", "energy.strain", "energy.gravity", "winch.phi", "winch.payout",
-                 "towbody.roll", "towbody.pitch", "towbody.yaw")
+                 "towbody.roll", "towbody.pitch", "towbody.yaw", "winch.deployed")
 _FIELD = {name: k for k, name in enumerate(OUTPUT_FIELDS)}
 _TOWBODY = ("tension.towbody", "towbody.x", "towbody.y", "towbody.z", "towbody.vx", "towbody.vy", "towbody.vz")
 _CONTACT = ("contact.winch_force", "contact.sheave_force", "energy.contact")
@@ -81,11 +82,14 @@ class OutputLayout:
     ----------
     towbody, winch, sheave, contact
         The scene has a towed body, a winch, a sheave, any contact surface.
+    spool
+        The winch pays the cable out from a spool end (its deployed length is an output).
     rigid
         The towed body is a rigid 6-DOF body (its attitude is an output too).
     """
 
-    def __init__(self, *, towbody: bool, winch: bool, sheave: bool, contact: bool, rigid: bool = False) -> None:
+    def __init__(self, *, towbody: bool, winch: bool, sheave: bool, contact: bool, rigid: bool = False,
+                 spool: bool = False) -> None:
         names = ["tension.top", "tension.bottom", "tension.max", "tension.min", "angle.top"]
         if towbody:
             names += _TOWBODY
@@ -102,6 +106,8 @@ class OutputLayout:
         names += ["energy.kinetic", "energy.strain", "energy.gravity", "winch.phi"]
         if winch:
             names.append("winch.payout")
+        if spool:
+            names.append("winch.deployed")
         #: Output names of the scene.
         self.names: tuple[str, ...] = tuple(names)
         #: Their positions in the array of :func:`output_values`.
@@ -188,6 +194,8 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     out[22] = gravity
     out[23] = phi[0]
     out[24] = scene.payout_radius * (scene.phi_nom - phi[0])
+    if model.terms.feed.enabled:
+        out[28] = model.el_len.sum()
     if model.terms.contact.enabled:
         _contact_values(model, q, v, ship, scene.has_winch, scene.sheave_position, top, out)
     return out
@@ -295,6 +303,7 @@ def _interpolate_state(model: CableModel, st, ws, t: float, drive_t: np.ndarray,
     evaluate_drive(drive_t, drive_x, t, ws.ships)
     apply_prescribed(model.att_index, model.att_kind, model.att_vec, model.att_radius, ws.ships, ws.phis,
                      ws.qs, ws.vs, ws.as_)
+    apply_feed(model, ws.phis)
 
 
 @njit(cache=True)
@@ -322,18 +331,26 @@ def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive
     int
         The number of samples reached: ``len(samples)``, or the index of the sample whose
         step failed (the state is then the last accepted step) or, with ``finite``, whose
-        outputs are not finite (``rec.finite``).
+        outputs are not finite (``rec.finite``), or the first sample after a step that
+        took a spool end's fed element out of its band
+        (:data:`~towcable_fmu.numerics.genalpha.FEED_EVENT`: the caller tells the cases
+        apart with :func:`~towcable_fmu.ancf.feed.feed_event`, remeshes and goes on).
     """
     scene, index, rows, finite, interpolate, t_land = rec
     k = 0
+    event = False  # a step reached a feed event: record the samples it passed, then return
     while k < samples.shape[0]:
         t_s = samples[k]
         t = st.clock[CLOCK_TIME]
         tol = 1e-12 * max(1.0, abs(t_s))
         if t_s > t + tol:
-            target = t_land if interpolate else t_s
-            if genalpha_advance(model, opt, st, ws, target, drive_t, drive_x, interpolate) != 0:
+            if event:
                 return k
+            target = t_land if interpolate else t_s
+            status = genalpha_advance(model, opt, st, ws, target, drive_t, drive_x, interpolate)
+            if status != 0 and status != FEED_EVENT:
+                return k
+            event = status == FEED_EVENT
             continue
         k += 1
         if index.shape[0] == 0:
@@ -344,6 +361,8 @@ def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive
             _interpolate_state(model, st, ws, t_s, drive_t, drive_x)
             q, v, a, phi, ship = ws.qs, ws.vs, ws.as_, ws.phis, ws.ships
         values = output_values(model, q, v, a, phi, t_s, ship, scene, ws.r)
+        if t_s < t - tol:
+            apply_feed(model, st.phi)  # back to the step's end
         for j in range(index.shape[0]):
             rows[k - 1, j] = values[index[j]]
             if finite and not np.isfinite(rows[k - 1, j]):

@@ -18,7 +18,7 @@ PANELS = (
     ("Contact force", ("contact.sheave_force", "contact.winch_force")),
     ("Towed body depth", ("towbody.z",)),
     ("Towed body track", ("towbody.x",)),
-    ("Winch", ("winch.phi", "winch.payout")),
+    ("Winch", ("winch.phi", "winch.payout", "winch.deployed")),
     ("Angles", ("angle.top", "sheave_angle", "contact.wrap_angle")),
 )
 

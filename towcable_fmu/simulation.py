@@ -14,6 +14,7 @@ import numpy as np
 
 from . import drive as drive_poly
 from .ancf import element, measures
+from .ancf.feed import MERGE_FACTOR, SPLIT_FACTOR, apply_feed, feed_event, material_rates
 from .ancf.initial_layout import initial_coordinates, layout_from_scene
 from .ancf.mesh import build_mesh, build_model, held_load_forces
 from .ancf.model import TAUT_RESIDUAL, CableModel, Mesh
@@ -31,6 +32,7 @@ from .numerics import genalpha
 from .numerics.statics import solve_statics
 from .scene.model import Scene
 from .ship_input import check_ship_state, motion_source
+from .winch_program import program_setpoints
 from .simulation_driver import SimulationDriver
 
 #: Outputs of a scene with a rigid load held by the cable (``[load]``), see :meth:`Simulation._load_outputs`.
@@ -83,8 +85,16 @@ class Simulation(SimulationDriver):
             raise SceneError("cable.formulation", scene.cable.formulation, "'ancf' for this class (a nodal-position "
                              "cable runs in towcable_fmu.nodal.simulation.NodalSimulation)")
         self._keep(scene)  # read here only: afterwards every part has its own data
-        self.mesh: Mesh = build_mesh(scene.cable.segments)
-        self.model: CableModel = build_model(scene, self.mesh)
+        #: the element layout (a spool end's fed element at its length after the last remesh)
+        self._mesh: Mesh = build_mesh(scene.cable.segments)
+        self.model: CableModel = build_model(scene, self._mesh)
+        self._scene_mesh = self._mesh
+        #: cable stored on the drum of a spool end at phi_nom [m] (None: no spool end)
+        self._stored_length = scene.winch.stored_length if scene.cable.top.type == "spool" else None
+        #: the winch's payout program (times [s], payouts [m]; None: none)
+        self._program = (None if scene.winch is None or not scene.winch.program_times else
+                         (np.array(scene.winch.program_times, dtype=float),
+                          np.array(scene.winch.program_payout, dtype=float)))
         self.options = solver_options(scene)
         self.motion = motion_source(scene)
         #: what the initial shape needs of the scene
@@ -121,7 +131,7 @@ class Simulation(SimulationDriver):
         #: The outputs this scene has (names in docs/design.md), see :meth:`outputs`.
         self.layout = OutputLayout(towbody=scene.towbody is not None, winch=scene.winch is not None,
                                    sheave=scene.sheave is not None, contact=bool(self.model.terms.contact.enabled),
-                                   rigid=rigid)
+                                   rigid=rigid, spool=bool(self.model.terms.feed.enabled))
         self.names = self.layout.names + (LOAD_OUTPUTS if self.model.terms.rigid_load.enabled else ())
         #: What the compiled outputs need of the scene.
         self.output_scene = OutputScene(
@@ -138,6 +148,15 @@ class Simulation(SimulationDriver):
             self.viv = WakeCoupling(scene.viv, self.mesh, self.model, scene.water.current.velocity, scene.water.density)
 
     # ------------------------------------------------------------------ time
+    @property
+    def mesh(self) -> Mesh:
+        """The element layout now: with a spool end, the fed first element at its current
+        length (:mod:`towcable_fmu.ancf.feed`)."""
+        if not self.model.terms.feed.enabled:
+            return self._mesh
+        lengths = self.model.el_len.copy()
+        return Mesh(lengths, self._mesh.segment_of_element, np.concatenate([[0.0], np.cumsum(lengths)]))
+
     @property
     def n_elements(self) -> int:
         """Number of cable elements."""
@@ -163,6 +182,9 @@ class Simulation(SimulationDriver):
         self._stepped = None
         if setpoint is not None:
             self._setpoint = setpoint
+        if self._mesh is not self._scene_mesh:  # remeshed in an earlier run: start from the scene's mesh
+            model = self._model_for(self._scene_mesh, self.output_scene.phi_nom)
+            self._use(self._scene_mesh, model, genalpha.new_state(model))
         st = self.state
         if self.viv is not None:
             self.viv.reset()
@@ -170,6 +192,11 @@ class Simulation(SimulationDriver):
         if self.output_scene.has_winch:
             st.phi[0] = self._setpoint[0] if setpoint is not None else self.output_scene.phi_nom
             self._setpoint = (float(st.phi[0]), self._setpoint[1] if setpoint is not None else 0.0)
+            if setpoint is None and self._program is not None:  # where the payout program starts
+                st.phi[0] = program_setpoints(np.array([t0]), *self._program, self.output_scene.payout_radius,
+                                              self.output_scene.phi_nom)[0, 0]
+                self._setpoint = (float(st.phi[0]), 0.0)
+        apply_feed(self.model, st.phi)  # a spool end's first element at the winch's rotation
         st.q[:] = (initial_coordinates(self.start, self.mesh, self.model, ship0, st.phi) if q0 is None
                    else self._checked_coordinates(q0, "q0"))
         st.v[:] = 0.0
@@ -333,7 +360,13 @@ class Simulation(SimulationDriver):
         """The drive table's winch set-points: a compensating scene's algorithm at the knots,
         with the measured sheave angle (rigorous algorithms) of the current state, or the
         constant-tension winch's set-point from the tension of the current state (one
-        control interval: the table's span); else the set-point held."""
+        control interval: the table's span); the scene's payout program
+        (:mod:`towcable_fmu.winch_program`); else the set-point held."""
+        if self.compensation is None and self._program is not None:
+            setpoints = program_setpoints(times, *self._program, self.output_scene.payout_radius,
+                                          self.output_scene.phi_nom)
+            self._setpoint = (float(setpoints[-1, 0]), float(setpoints[-1, 1]))
+            return setpoints
         if self.compensation is None:
             return np.tile(self._setpoint, (times.size, 1))
         if self._tension_control():  # the rate decided at the last sample; then the next from the tension now
@@ -376,8 +409,9 @@ class Simulation(SimulationDriver):
         the velocities and the kinetic, bending and gravity energies are unchanged; the
         tension (the decoupled axial strain) and the loads integrated on each element's
         grid of points (contact, drag) change by their discretisation error, now on the
-        finer elements. The next step factorises its matrix afresh. A state saved before the
-        split belongs to the old mesh (:meth:`set_state` refuses it).
+        finer elements. The fed element of a spool end gives the new node the material's
+        velocity and acceleration there (:func:`~towcable_fmu.ancf.feed.material_rates`):
+        the node is material from then on. The next step factorises its matrix afresh.
 
         Returns
         -------
@@ -390,12 +424,27 @@ class Simulation(SimulationDriver):
             If ``element`` or ``xi`` is out of range, or the scene has wake oscillators
             (their states belong to the elements); nothing is changed.
         """
+        old = self.mesh
         try:
-            mesh = split_mesh(self.mesh, element, xi)
+            mesh = split_mesh(old, element, xi)
         except ValueError as exc:
             raise SceneError("split_element", (element, xi), str(exc)) from None
-        old = self.mesh
-        return self._remesh("split_element", mesh, lambda x: split_coordinates(x, old, element, xi))
+        st = self.state
+        material = None
+        feed = self.model.terms.feed
+        if feed.enabled and element == feed.element:
+            u, du = -feed.radius * st.phi[1], -feed.radius * st.phi[2]
+            span = slice(6 * element, 6 * element + 12)
+            material = material_rates(st.q[span], st.v[span], st.a[span], old.lengths[element], xi, u, du)
+        new = slice(6 * (element + 1), 6 * (element + 2))  # the new node's coordinates
+
+        def transfer(name: str, x: np.ndarray) -> np.ndarray:
+            y = split_coordinates(x, old, element, xi)
+            if material is not None and name != "q":  # the new node moves with the material
+                grid = split_coordinates(st.a, old, element, xi)[new]
+                y[new] = {"v": material[0], "a": material[1], "abar": y[new] + material[1] - grid}[name]
+            return y
+        return self._remesh("split_element", mesh, transfer)
 
     def merge_elements(self, element: int) -> dict[str, float]:
         """Merge elements ``element`` and ``element + 1`` (of one segment) into one during a
@@ -410,43 +459,83 @@ class Simulation(SimulationDriver):
             If there is no such pair in one segment, or the scene has wake oscillators;
             nothing is changed.
         """
+        old = self.mesh
         try:
-            mesh = merge_mesh(self.mesh, element)
+            mesh = merge_mesh(old, element)
         except ValueError as exc:
             raise SceneError("merge_elements", element, str(exc)) from None
-        old = self.mesh
         position, slope = merge_defect(self.state.q, old, element)
-        out = self._remesh("merge_elements", mesh, lambda x: merge_coordinates(x, old, element))
+        out = self._remesh("merge_elements", mesh, lambda name, x: merge_coordinates(x, old, element))
         return {**out, "remesh.position_defect": position, "remesh.slope_defect": slope}
 
     def _remesh(self, key: str, mesh: Mesh, transfer) -> dict[str, float]:
         """Move the running cable onto ``mesh``: the model rebuilt for it, every coordinate
-        array of the state through ``transfer`` (old vector -> new), the matrix
+        array of the state through ``transfer(name, old vector) -> new vector``, the matrix
         factorised afresh by the next step; the outputs after."""
         self._require_initialized()
         if self.viv is not None:
             raise SceneError(key, "a scene with wake oscillators", "a scene without them (viv): their states belong "
                              "to the elements")
         st, ship = self.state, self.workspace.ship.copy()
-        model = build_model(self.scene, mesh)._replace(water=self.model.water)
+        model = self._model_for(mesh, float(st.phi[0]))
         state = genalpha.new_state(model)
         for name in ("q", "v", "a", "abar"):
-            getattr(state, name)[:] = transfer(getattr(st, name))
+            getattr(state, name)[:] = transfer(name, getattr(st, name))
         for name in ("phi", "clock", "stats"):
             getattr(state, name)[:] = getattr(st, name)
         state.jac[:] = st.jac
         state.jac[genalpha.JAC_VALID] = 0.0  # the matrix of the old mesh: factorise afresh
-        self.mesh, self.model, self.state = mesh, model, state
+        self._use(mesh, model, state)
+        self.workspace.ship[:, :] = ship
+        apply_feed(model, state.phi)
+        residual(model, state.q, state.v, state.a, self.time, self.workspace.ship, self.workspace.r)
+        state.taut[:] = model.el_taut[TAUT_RESIDUAL]  # the taut points of the new elements
+        return self.outputs()
+
+    def _model_for(self, mesh: Mesh, phi_ref: float) -> CableModel:
+        """The model of ``mesh`` with this run's water; a spool end's fed element has the
+        mesh's first length at the winch rotation ``phi_ref`` [rad]."""
+        model = build_model(self.scene, mesh)._replace(water=self.model.water)
+        model.terms.feed.ref[:] = (mesh.lengths[model.terms.feed.element], phi_ref)
+        return model
+
+    def _use(self, mesh: Mesh, model: CableModel, state: genalpha.IntegratorState) -> None:
+        """Make ``mesh``, its ``model`` and ``state`` the simulation's, with a new workspace."""
+        self._mesh, self.model, self.state = mesh, model, state
         if self._held_forces is not None:  # (statics of a later initialisation)
             self._held_forces = held_load_forces(self.scene, model)
         self.workspace = genalpha.new_workspace(model)
         self._stepped = None
         self._snapshot_buffers = None
         self._last_outputs = {}
-        self.workspace.ship[:, :] = ship
-        residual(model, state.q, state.v, state.a, self.time, self.workspace.ship, self.workspace.r)
-        state.taut[:] = model.el_taut[TAUT_RESIDUAL]  # the taut points of the new elements
-        return self.outputs()
+
+    def _follow_feed(self) -> bool:
+        """After a step reported a feed event: split a spool end's fed element when it has
+        grown to SPLIT_FACTOR nominal lengths (one nominal element downstream, the rest
+        upstream, where the cable comes in) or merge it with the next when it has shrunk
+        to MERGE_FACTOR; False if there is no event (the step failed).
+
+        Raises
+        ------
+        SolverError
+            If the winch hauls in beyond the first segment (no element left to merge with).
+        """
+        if not feed_event(self.model):
+            return False
+        fed = self.model.terms.feed.element
+        length, nominal = float(self.model.el_len[fed]), self.model.terms.feed.length_nom
+        if length >= SPLIT_FACTOR * nominal:
+            self.split_element(fed, (length - nominal) / length)
+            return True
+        mesh = self.mesh
+        if mesh.n_elements < fed + 2 or mesh.segment_of_element[fed + 1] != mesh.segment_of_element[fed]:
+            shortest = float(mesh.node_arc[-1] - length + MERGE_FACTOR * nominal)
+            raise SolverError(f"winch.payout = {float(self._output_array()[_PAYOUT]):.6g} m at t = {self.time:.6g} s "
+                              f"hauls in the whole fed segment: the deployed length cannot go below "
+                              f"{shortest:.6g} m (the other segments and {MERGE_FACTOR:g} of a fed segment's "
+                              "element); limit the winch's set-point")
+        self.merge_elements(fed)
+        return True
 
     # --------------------------------------------------------------- outputs
     def reactions(self) -> np.ndarray:
@@ -533,9 +622,12 @@ class Simulation(SimulationDriver):
         changes the loads after the step); the solver status."""
         keep = self.viv is None
         rows = np.empty((1, len(OUTPUT_FIELDS))) if keep else _NO_ROWS
-        reached = advance_recording(self.model, self.options, self.state, self.workspace, np.array([t_end]),
-                                    *drive, Recording(self.output_scene, _ALL_OUTPUTS if keep else _NO_OUTPUTS,
-                                                      rows, False, False, t_end))
+        while True:  # (a spool end's fed element is split or merged between steps)
+            reached = advance_recording(self.model, self.options, self.state, self.workspace, np.array([t_end]),
+                                        *drive, Recording(self.output_scene, _ALL_OUTPUTS if keep else _NO_OUTPUTS,
+                                                          rows, False, False, t_end))
+            if reached == 1 or not self._follow_feed():
+                break
         self._stepped = (self._fingerprint(), rows[0]) if keep and reached == 1 else None
         return genalpha.OK if reached == 1 else genalpha.FAILED_MIN_STEP
 
@@ -663,12 +755,46 @@ class Simulation(SimulationDriver):
         return self.state
 
     def _extra_state(self) -> dict[str, Any]:
+        feed = self.model.terms.feed
         return {"setpoint": list(self._setpoint), "payout_limit": self._payout_limit,
+                "mesh": None if not feed.enabled else {"lengths": self._mesh.lengths.tolist(),
+                                                       "segments": self._mesh.segment_of_element.tolist(),
+                                                       "phi_ref": float(feed.ref[1])},
                 "winch_control": self.compensation.get_state() if self._tension_control() else None,
                 "turbulence_t0": None if self.turbulence is None else self.turbulence.t0,
                 "viv": None if self.viv is None else self.viv.get_state()}
 
+    def set_state(self, data: Mapping[str, Any]) -> None:
+        """Restore a state of :meth:`get_state` (see
+        :meth:`~towcable_fmu.simulation_driver.SimulationDriver.set_state`), also one saved
+        before a spool end's fed element was split or merged: the model of its mesh is
+        rebuilt first (and put back if the state is refused)."""
+        kept = (self._mesh, self.model, self.state, self.workspace)
+        self._load_mesh(data.get("mesh"))
+        try:
+            super().set_state(data)
+        except SceneError:
+            self._use(*kept[:3])
+            self.workspace = kept[3]
+            raise
+
+    def _load_mesh(self, saved: Mapping[str, Any] | None) -> None:
+        """Rebuild the model for the mesh of a saved state when it is not the current one."""
+        if saved is None or not self.model.terms.feed.enabled:
+            return
+        lengths = np.asarray(saved["lengths"], dtype=float)
+        segments = np.asarray(saved["segments"], dtype=np.int64)
+        phi_ref = float(saved["phi_ref"])
+        feed = self.model.terms.feed
+        if (lengths.shape == self._mesh.lengths.shape and np.array_equal(lengths, self._mesh.lengths)
+                and np.array_equal(segments, self._mesh.segment_of_element) and feed.ref[1] == phi_ref):
+            return
+        mesh = Mesh(lengths, segments, np.concatenate([[0.0], np.cumsum(lengths)]))
+        model = self._model_for(mesh, phi_ref)
+        self._use(mesh, model, genalpha.new_state(model))
+
     def _load_extra_state(self, data: Mapping[str, Any]) -> None:
+        self._load_mesh(data.get("mesh"))
         t0 = data.get("turbulence_t0")
         if t0 is not None and (self.turbulence is None or self.turbulence.t0 != t0):
             self._start_turbulence(float(t0))
@@ -683,6 +809,7 @@ class Simulation(SimulationDriver):
         self._stepped = None
         self._last_outputs = {}  # they were of another state
         self._cover(self.time)
+        apply_feed(self.model, self.state.phi)
         genalpha.refactorize_from_state(self.model, self.options, self.state, self.workspace)
 
     # ------------------------------------------------------------------- run
@@ -723,9 +850,13 @@ class Simulation(SimulationDriver):
         drive = self._drive(marks, h)
         self._cover(float(marks.max()))
         if not in_python:
-            reached = advance_recording(self.model, self.options, self.state, self.workspace, block, *drive,
-                                        Recording(self.output_scene, self.layout.index, rows, True, interpolate,
-                                                  t_land))
+            reached = 0
+            while True:  # (a spool end's fed element is split or merged between steps)
+                reached += advance_recording(self.model, self.options, self.state, self.workspace, block[reached:],
+                                             *drive, Recording(self.output_scene, self.layout.index, rows[reached:],
+                                                               True, interpolate, t_land))
+                if reached == block.size or not self._follow_feed():
+                    break
         else:
             reached = 0
             while reached < block.size and self._integrate(block[reached], drive) == genalpha.OK:
@@ -743,6 +874,8 @@ class Simulation(SimulationDriver):
     def _drum_payout_limit(self) -> float | None:
         """The largest payout [m] of the current state's drum: the payout now plus the
         unstretched cable from its end to where it leaves the drum (None: no drum contact)."""
+        if self._stored_length is not None:
+            return self._stored_length
         if not (self.output_scene.has_winch and self.model.terms.contact.enabled):
             return None
         ends = self.contact_state()["ends"]

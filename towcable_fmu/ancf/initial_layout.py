@@ -34,10 +34,28 @@ class InitialLayout(NamedTuple):
     sag_direction: np.ndarray       #: (3,) ``cable.initial.sag_direction``
     winch_center: np.ndarray        #: (3,) drum centre (ship frame) [m]; zeros without a winch
     winch_radius: float             #: centreline wrap radius r_w + d/2 [m]
+    #: a spool end on the drum's centreline circle (ship frame, within SPOOL_ON_DRUM): its
+    #: angle from the top towards +X in [0, 2 pi) [rad], the cable laid out wrapped from
+    #: there with decreasing angle as from a winch end; else None
+    spool_angle: float | None
     pulley_centers: np.ndarray      #: (k, 3) sheave then idlers (ship frame) [m]; k = 0 without a sheave
     pulley_radii: np.ndarray        #: (k,) centreline radii over them [m]
     load_length: float              #: a rigid load's link length L_PI [m] (0: no load)
     body_attitude: np.ndarray       #: (3,) a rigid towed body's initial roll, pitch, yaw [rad]
+
+
+#: distance [m] within which a spool end counts as lying on the drum (the layout wraps from it)
+SPOOL_ON_DRUM = 1e-3
+
+
+def _spool_angle(scene: Scene) -> float | None:
+    """The angle of a spool end on the drum (see :attr:`InitialLayout.spool_angle`)."""
+    if scene.cable.top.type != "spool" or scene.cable.top.frame != "ship":
+        return None
+    offset = np.array(scene.cable.top.position, dtype=float) - np.array(scene.winch.position, dtype=float)
+    if abs(np.hypot(offset[0], offset[2]) - winch_radius(scene)) > SPOOL_ON_DRUM:
+        return None
+    return float(np.arctan2(offset[0], offset[2]) % (2.0 * np.pi))  # as phi_nom: in [0, 2 pi)
 
 
 def layout_from_scene(scene: Scene) -> InitialLayout:
@@ -55,6 +73,7 @@ def layout_from_scene(scene: Scene) -> InitialLayout:
         sag_direction=np.array(cable.initial.sag_direction, dtype=float),
         winch_center=np.zeros(3) if winch is None else np.array(winch.position, dtype=float),
         winch_radius=0.0 if winch is None else winch_radius(scene),
+        spool_angle=_spool_angle(scene),
         pulley_centers=np.array([p.position for p in pulleys], dtype=float).reshape(-1, 3),
         pulley_radii=np.array([p.radius + half_d for p in pulleys], dtype=float),
         load_length=0.0 if scene.load is None else float(scene.load.length_pi),
@@ -90,9 +109,10 @@ def _cable_shape(layout: InitialLayout, mesh: Mesh, model: CableModel, ship0: np
                  phi: np.ndarray) -> np.ndarray:
     """Wrapped on the winch and over the sheave, draped over the sheave, straight, or sagging."""
     arc = mesh.node_arc
-    if layout.top_type == "winch":
+    if layout.top_type == "winch" or layout.spool_angle is not None:
+        start = float(phi[0]) if layout.spool_angle is None else layout.spool_angle
         return _in_ship_frame(ship0, lambda rot: initial_shape.wrapped(
-            arc, layout.winch_center, layout.winch_radius, float(phi[0]), rot.T @ layout.direction,
+            arc, layout.winch_center, layout.winch_radius, start, rot.T @ layout.direction,
             layout.pulley_centers[0] if layout.pulley_centers.size else None,
             float(layout.pulley_radii[0]) if layout.pulley_radii.size else 0.0))
     q = np.zeros(model.free_idx.size)

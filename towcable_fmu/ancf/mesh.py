@@ -43,6 +43,7 @@ def _attachments(end: End, node: int, sign: float, winch_center: np.ndarray | No
         return out
     if end.type == "winch":
         return [(6 * node, WINCH_POINT, winch_center)]
+    # a spool end is a point like a pinned one; the winch feeds the first element (ancf/feed.py)
     ship = end.frame == "ship"
     out.append((6 * node, SHIP_POINT if ship else FIXED_POINT, np.array(end.position, dtype=float)))
     if end.type == "clamped":

@@ -59,6 +59,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..kernel_cache import njit
+from ..ancf.feed import apply_feed, feed_event
 from ..ancf.prescribed import apply_prescribed
 from ..ancf.model import TAUT_MATRIX, TAUT_RESIDUAL, CableModel
 from ..ancf.slack import crossing_fraction
@@ -70,6 +71,9 @@ from .banded import band_lu, band_solve, band_storage
 # results of advance
 OK = 0
 FAILED_MIN_STEP = 1
+#: an accepted step left the fed element of a spool end out of its band
+#: (:func:`~towcable_fmu.ancf.feed.feed_event`): the caller splits or merges it and goes on
+FEED_EVENT = 2
 
 # results of one step attempt (_try_step)
 STEP_ACCEPTED = 0
@@ -100,6 +104,9 @@ JAC_T = 3
 JAC_ETA = 4
 JAC_SKIP = 5
 JAC_BACKOFF = 6
+#: winch rotation, rate and acceleration at the factorisation (the fed element's matrices follow them)
+JAC_PHI = 7
+JAC_FIELDS = 10
 
 #: contraction rate above which a matrix from an earlier step is refreshed within the step
 THETA_REFRESH = 0.5
@@ -143,7 +150,7 @@ class IntegratorState(NamedTuple):
     abar: np.ndarray     #: (nf,) auxiliary accelerations of the scheme
     phi: np.ndarray      #: (4,) winch rotation, rate, acceleration, auxiliary acceleration
     clock: np.ndarray    #: (4,) the CLOCK_* fields: time [s], step size [s], last error estimate [-], steps since a cut
-    jac: np.ndarray      #: (7,) valid, step size, age, time, Newton contraction estimate, steps left to factorise afresh, backoff length
+    jac: np.ndarray      #: (JAC_FIELDS,) valid, step size, age, time, Newton contraction estimate, steps left to factorise afresh, backoff length, winch state (3)
     jac_q: np.ndarray    #: (nf,) coordinates at which the Jacobian was evaluated
     jac_v: np.ndarray    #: (nf,) velocities at which the Jacobian was evaluated
     jac_ship: np.ndarray  #: (3, 6) ship state at which the Jacobian was evaluated
@@ -176,7 +183,7 @@ def new_state(model: CableModel) -> IntegratorState:
     """A zero integrator state for ``model``."""
     nf = model.free_idx.shape[0]
     return IntegratorState(np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(4), np.zeros(4),
-                           np.zeros(7), np.zeros(nf), np.zeros(nf), np.zeros((3, 6)),
+                           np.zeros(JAC_FIELDS), np.zeros(nf), np.zeros(nf), np.zeros((3, 6)),
                            np.zeros(len(STAT_NAMES), dtype=np.int64),
                            np.zeros(model.el_len.shape[0], dtype=np.int64))
 
@@ -215,6 +222,8 @@ def _factorize(model, opt, st, ws, t, h, am, af, gamma, beta):
     st.jac[JAC_H] = h
     st.jac[JAC_AGE] = 0.0
     st.jac[JAC_T] = t
+    for k in range(3):
+        st.jac[JAC_PHI + k] = st.phi[k]
     if info != 0:
         st.stats[STAT_SINGULAR] += 1
         st.jac[JAC_VALID] = 0.0
@@ -236,8 +245,10 @@ def refactorize_from_state(model: CableModel, opt: SolverOptions, st: Integrator
     h = st.jac[JAC_H]
     scale = (1.0 - af) / (1.0 - am)
     ws.ship[:, :] = st.jac_ship
+    apply_feed(model, st.jac[JAC_PHI:JAC_PHI + 3])
     iteration_matrix(model, st.jac_q, st.jac_v, st.jac[JAC_T], ws.ship, 1.0, h * gamma * scale,
                      h * h * beta * scale, ws.ab)
+    apply_feed(model, st.phi)
     n = model.free_dofs.shape[0]
     if band_lu(ws.ab, n, model.kl, model.ku, ws.ipiv) != 0:
         st.jac[JAC_VALID] = 0.0
@@ -264,6 +275,7 @@ def initial_acceleration(model: CableModel, opt: SolverOptions, st: IntegratorSt
     st.phi[2] = opt.winch_kp * (sp - st.phi[0]) + opt.winch_kd * (sp_rate - st.phi[1])
     apply_prescribed(model.att_index, model.att_kind, model.att_vec, model.att_radius, ws.ship, st.phi,
                      st.q, st.v, st.a)
+    apply_feed(model, st.phi)
     st.a[model.free_dofs] = 0.0
     residual(model, st.q, st.v, st.a, t, ws.ship, ws.r)
     st.taut[:] = model.el_taut[TAUT_RESIDUAL]
@@ -328,6 +340,7 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
         st.abar[k] = bar_new
     apply_prescribed(model.att_index, model.att_kind, model.att_vec, model.att_radius, ws.ship, st.phi,
                      st.q, st.v, st.a)
+    apply_feed(model, st.phi)
     reused = not (st.jac[JAC_VALID] == 0.0 or abs(h / st.jac[JAC_H] - 1.0) > 0.05
                   or st.jac[JAC_AGE] >= opt.jac_max_age or st.jac[JAC_SKIP] > 0.0)
     if not reused:
@@ -458,8 +471,10 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
     Returns
     -------
     int
-        ``OK``; or ``FAILED_MIN_STEP`` when a step failed at the minimum step size
-        (the state is then the last accepted step, at a time before ``t_end``).
+        ``OK``; ``FAILED_MIN_STEP`` when a step failed at the minimum step size (the state
+        is then the last accepted step, at a time before ``t_end``); or ``FEED_EVENT`` after
+        an accepted step that took a spool end's fed element out of its band (the caller
+        remeshes and calls again).
     """
     am, af, gamma, beta = scheme_coefficients(opt.rho_inf)
     while True:
@@ -514,6 +529,8 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
                 # fixed-step mode after a cut: return to the nominal step by doublings
                 st.clock[CLOCK_STEP] = min(opt.h_max, 2.0 * st.clock[CLOCK_STEP])
                 st.clock[CLOCK_STEPS_SINCE_CUT] = 0.0
+            if feed_event(model):
+                return FEED_EVENT
             if one_step:
                 return OK
             continue
@@ -527,5 +544,6 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
             h_new = 0.5 * h_try
             st.jac[JAC_ETA] = 1.0
         if h_new < opt.h_min:
+            apply_feed(model, st.phi)  # the fed element of the last accepted step
             return FAILED_MIN_STEP
         st.clock[CLOCK_STEP] = h_new

@@ -23,6 +23,7 @@ import time
 
 import numpy as np
 
+from ..ancf.feed import apply_feed
 from ..ancf.prescribed import apply_prescribed
 from ..ancf.model import CableModel
 from ..ancf.system import iteration_matrix, residual
@@ -157,6 +158,7 @@ def solve_statics(model: CableModel, q0: np.ndarray, ship: np.ndarray, phi: np.n
     a = np.zeros_like(q)
     apply_prescribed(model.att_index, model.att_kind, model.att_vec, model.att_radius, ship_static, phi_static,
                      q, v, a)
+    apply_feed(model, phi_static)
     move_limit = 0.5 if max_move is None else max_move
     slack_model = model._replace(el_tension_only=np.ones_like(model.el_tension_only))
     q, it1, _, _, _ = _ptc(slack_model, q, ship_static, t, max(tolerance, 1e-4), max_iterations, tau0, move_limit)

@@ -59,10 +59,13 @@ class Segment:
 class End:
     """Boundary condition at one end of the cable."""
 
-    type: str = spec("free", choices=("pinned", "clamped", "free", "winch"),
+    type: str = spec("free", choices=("pinned", "clamped", "free", "winch", "spool"),
                      doc="pinned: position prescribed, slope free; clamped: position and slope "
                          "prescribed; free: no constraint (a towed body may hang there); winch: fixed "
-                         "to the winch drum at its rotation phi, W(120) (top end only)")
+                         "to the winch drum at its rotation phi, W(120) (top end only); spool: the point "
+                         "'position' where the cable leaves its store on the winch, which pays it out "
+                         "and hauls it in through the first element (top end only; winch.stored_length; "
+                         "towcable_fmu/ancf/feed.py)")
     frame: str = spec("inertial", choices=("inertial", "ship"),
                       doc="frame of 'position': fixed in the inertial frame or moving with the ship")
     position: tuple[float, ...] | None = spec(None, unit="m", length=3,
@@ -80,7 +83,7 @@ class End:
         if self.type == "winch" and self.position is not None:
             raise SceneError(f"{key}.position", list(self.position), "no position for a winch end (the drum "
                                                                      "and its rotation place it)")
-        if self.type in ("pinned", "clamped") and self.position is None:
+        if self.type in ("pinned", "clamped", "spool") and self.position is None:
             raise SceneError(f"{key}.position", None, f"a list of 3 numbers [m] (required for type = '{self.type}')")
         if self.mass > 0.0 and self.type != "free":
             raise SceneError(f"{key}.mass", self.mass, "0 unless the end is free (a held end carries no mass)")
@@ -125,8 +128,8 @@ class Cable:
         if self.bottom.type == "free" and self.bottom.position is not None:
             raise SceneError(f"{key}.bottom.position", list(self.bottom.position),
                              "no position for a free bottom end (the initial shape places it)")
-        if self.bottom.type == "winch":
-            raise SceneError(f"{key}.bottom.type", "winch", "a winch at the top end only")
+        if self.bottom.type in ("winch", "spool"):
+            raise SceneError(f"{key}.bottom.type", self.bottom.type, "a winch at the top end only")
         if self.top.type == "free" and self.bottom.type != "free":
             raise SceneError(f"{key}.top.type", "free", "'pinned' or 'clamped' (the cable hangs from its top end; "
                                                         "to hold only the lower end, swap the ends)")
@@ -166,6 +169,31 @@ class Winch:
     kp: float = spec(unit="1/s^2", ge=0.0, doc="proportional gain k_1 of the PD drive")
     kd: float = spec(unit="1/s", ge=0.0, doc="derivative gain k_2 of the PD drive")
     contact: ContactLaw = spec(ContactLaw(), doc="cable-drum contact")
+    stored_length: float | None = spec(None, unit="m", ge=0.0,
+                                       doc="cable stored on the drum at phi_nom (a spool end): the most the winch "
+                                           "pays out; winch.payout = (r_w + d/2) (phi_nom - phi) is unstretched "
+                                           "cable")
+    gear_segments: int = spec(0, unit="-", ge=0,
+                              doc="spool end: the segments (from the top) that carry the cable from the spool over "
+                                  "the drum and sheaves, a fixed mesh the paid-out cable flows through; the first "
+                                  "element of the next segment grows and splits as the winch pays out (their "
+                                  "cable is the fed segment's)")
+    program_times: tuple[float, ...] = spec([], unit="s",
+                                            doc="times of a payout program (increasing): the set-point follows "
+                                                "program_payout piecewise linearly and holds after the last time "
+                                                "(none: the set-point phi_nom, or the compensation's)")
+    program_payout: tuple[float, ...] = spec([], unit="m", doc="winch.payout at program_times")
+
+    def validate(self, key: str) -> None:
+        """Cross-field checks."""
+        times, payout = np.asarray(self.program_times, dtype=float), np.asarray(self.program_payout, dtype=float)
+        if times.size != payout.size:
+            raise SceneError(f"{key}.program_payout", list(self.program_payout),
+                             f"{times.size} values, one per program time")
+        if times.size and not (np.all(np.isfinite(times)) and np.all(np.isfinite(payout))):
+            raise SceneError(f"{key}.program_times", list(self.program_times), "finite times and payouts")
+        if np.any(np.diff(times) <= 0.0):
+            raise SceneError(f"{key}.program_times", list(self.program_times), "increasing times [s]")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -472,12 +500,42 @@ class Scene:
     base_dir: str = spec("", doc="folder against which relative file paths are resolved "
                                  "(default: the scene file's folder, or the working directory)")
 
+    def _check_spool(self) -> None:
+        """A spool end stores cable on the drum, and the gear carries the fed segment's cable."""
+        if self.winch.stored_length is None:
+            raise SceneError("winch.stored_length", None, "the cable stored on the drum [m], >= 0 (required with "
+                                                          "cable.top.type = 'spool')")
+        segments, gear = self.cable.segments, self.winch.gear_segments
+        if gear >= len(segments):
+            raise SceneError("winch.gear_segments", gear, f"fewer than the {len(segments)} segments (the next one is "
+                                                          "fed)")
+        fed = segments[gear]
+        for i in range(gear):
+            for name in ("diameter", "mass_per_length", "EA", "EI", "damping"):
+                if getattr(segments[i], name) != getattr(fed, name):
+                    raise SceneError(f"cable.segments[{i}].{name}", getattr(segments[i], name),
+                                     f"{getattr(fed, name)!r}, the fed segment's (cable.segments[{gear}]): the paid-out "
+                                     "cable flows through the gear's segments")
+
     def validate(self, key: str) -> None:
         """Cross-section checks."""
         if self.solver.integrator == "rk4" and self.cable.formulation != "nodal_position":
             raise SceneError("solver.integrator", "rk4", "'genalpha' unless cable.formulation = 'nodal_position'")
-        if (self.cable.top.type == "winch") != (self.winch is not None):
-            raise SceneError("cable.top.type", self.cable.top.type, "'winch' exactly when a [winch] is given")
+        if (self.cable.top.type in ("winch", "spool")) != (self.winch is not None):
+            raise SceneError("cable.top.type", self.cable.top.type, "'winch' or 'spool' exactly when a [winch] is "
+                                                                    "given")
+        if self.cable.top.type == "spool":
+            self._check_spool()
+        elif self.winch is not None and self.winch.gear_segments:
+            raise SceneError("winch.gear_segments", self.winch.gear_segments, "0 unless cable.top.type = 'spool'")
+        if self.compensation is not None and self.winch is not None and self.winch.program_times:
+            raise SceneError("winch.program_times", list(self.winch.program_times),
+                             "empty with a [compensation] (it sets the winch's set-point)")
+        if (self.winch is not None and self.winch.stored_length is not None and self.winch.program_payout
+                and max(self.winch.program_payout) > self.winch.stored_length):
+            raise SceneError("winch.program_payout", list(self.winch.program_payout),
+                             f"payouts <= winch.stored_length = {self.winch.stored_length:g} m (the cable stored "
+                             "on the drum)")
         if self.compensation is not None and self.winch is None:
             raise SceneError("compensation", self.compensation, "absent without a [winch]")
         if self.load is not None and (self.towbody is not None or self.cable.bottom.type != "free"

@@ -17,10 +17,10 @@ import numpy as np
 from ...kernel_cache import njit
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
-from . import contact, hydrodynamics, rigid_link, rigid_load, towbody, wake
+from . import contact, feed, hydrodynamics, rigid_link, rigid_load, towbody, wake
 
 #: The term modules, in the order their residuals and tangents are added.
-TERMS = (rigid_load, rigid_link, contact, hydrodynamics, towbody, wake)
+TERMS = (feed, rigid_load, rigid_link, contact, hydrodynamics, towbody, wake)
 
 #: One field per term (its ``NAME``) holding the term's ``Data``: ``model.terms.contact``.
 ForceTerms = NamedTuple("ForceTerms", [(term.NAME, term.Data) for term in TERMS])
@@ -40,6 +40,8 @@ def add_residuals(model: CableModel, motion: Motion, a: np.ndarray, first: int, 
                   out: np.ndarray) -> None:
     """Every enabled term's ``residual`` (elements ``first`` to ``stop - 1``), in the order of :data:`TERMS`."""
     terms = model.terms
+    if terms.feed.enabled:
+        feed.residual(terms.feed, model, motion, a, first, stop, out)
     if terms.rigid_load.enabled:
         rigid_load.residual(terms.rigid_load, model, motion, a, first, stop, out)
     if terms.rigid_link.enabled:
@@ -58,6 +60,8 @@ def add_residuals(model: CableModel, motion: Motion, a: np.ndarray, first: int, 
 def add_tangents(model: CableModel, motion: Motion, ca: float, cv: float, cq: float, ab: np.ndarray) -> None:
     """Every enabled term's ``tangent``, in the order of :data:`TERMS`."""
     terms = model.terms
+    if terms.feed.enabled:
+        feed.tangent(terms.feed, model, motion, ca, cv, cq, ab)
     if terms.rigid_load.enabled:
         rigid_load.tangent(terms.rigid_load, model, motion, ca, cv, cq, ab)
     if terms.rigid_link.enabled:

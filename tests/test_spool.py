@@ -1,0 +1,214 @@
+"""A cable paid out and hauled in from a spool point (cable.top.type = "spool",
+towcable_fmu/ancf/feed.py): the fed element's kinematics against time derivatives, a slow
+veer against the closed form of a hanging cable, conservation of length and energy, no
+impulse at the splits and merges, and the errors at the limits."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from towcable_fmu.ancf import element
+from towcable_fmu.ancf.feed import MERGE_FACTOR, SPLIT_FACTOR, apply_feed, material_rates, material_rows
+from towcable_fmu.errors import SceneError, SolverError
+from towcable_fmu.simulation import Simulation
+
+SCENE = str(Path(__file__).parent / "data" / "spool_hanging.toml")
+MU, EA, MASS, G, LENGTH = 0.389, 6.786e6, 250.0, 9.81, 20.0  # the scene's wire, end mass and deployed length
+
+
+def _ramp(t0: float, t1: float, p0: float, p1: float, knots: int = 1001) -> dict:
+    """A payout program from p0 at t0 to p1 at t1 [m] with a smooth (cosine) speed, in
+    many short linear pieces (each knot steps the drive's rate set-point a little)."""
+    s = np.linspace(0.0, 1.0, knots)
+    payout = p0 + (p1 - p0) * (s - np.sin(2 * np.pi * s) / (2 * np.pi))
+    return {"winch.program_times": list(t0 + (t1 - t0) * s), "winch.program_payout": list(payout)}
+
+
+def _run(overrides: dict, duration: float, interval: float = 0.01) -> tuple[Simulation, dict]:
+    sim = Simulation.from_scene(SCENE, overrides)
+    sim.initialize()
+    return sim, sim.run(duration, interval)
+
+
+@pytest.fixture(scope="module")
+def veer() -> dict[int, tuple[Simulation, dict]]:
+    """The scene veered slowly from 20 m to 40 m deployed (100 s), meshed in 4 and in 5 elements."""
+    return {n: _run({**_ramp(1.0, 101.0, 0.0, 20.0), "cable.segments[0].elements": n}, 103.0) for n in (4, 5)}
+
+
+def test_the_fed_element_has_the_element_matrices_of_its_length():
+    """apply_feed rescales the unit matrices; element.py integrates them at that length."""
+    sim = Simulation.from_scene(SCENE)
+    model, feed = sim.model, sim.model.terms.feed
+    phi = np.array([-7.3, 0.0, 0.0, 0.0])   # 7.3 rad paid out
+    apply_feed(model, phi)
+    length = 5.0 + feed.radius * 7.3
+    assert model.el_len[0] == pytest.approx(length, rel=1e-14)
+    np.testing.assert_allclose(model.el_mass[0], element.mass_matrix(length, MU), rtol=1e-12)
+    np.testing.assert_allclose(model.el_bend[0], element.bending_matrix(length, 1.40), rtol=1e-12)
+    np.testing.assert_allclose(model.el_damp[0], element.damping_matrix(length, 310.0), rtol=1e-12)
+    # the cable's whole weight: the vertical loads of all position rows
+    weight = model.f_const[2:6 * sim.mesh.n_nodes:6].sum()
+    assert weight == pytest.approx(-(MU * (15.0 + length) + MASS) * G, rel=1e-12)
+    np.testing.assert_array_equal(feed.transport, 0.0)   # at rest: no transport terms
+
+
+def _rows(xi: float, length: float, grows: float, u: float, du: float) -> list[np.ndarray]:
+    """N, B, dB/dt, N_p, B_p of material_rows at xi."""
+    h = np.stack([element.shape_functions(xi, 1.0), element.shape_derivatives(xi, 1.0),
+                  element.shape_second_derivatives(xi, 1.0)])
+    rows = [np.empty(4) for _ in range(5)]
+    material_rows(h, xi, length, grows, u, du, *rows)
+    return rows
+
+
+@pytest.mark.parametrize("grows", [1.0, 0.0])
+def test_material_rates_are_the_time_derivatives_of_a_material_point(grows):
+    """r(t) = N(xi(p, t); L(t)) e(t) at a fixed material point p, with material entering
+    at a varying payout rate and the element growing with it (the fed element) or of fixed
+    length (a gear element): N de/dt + B e and N d2e/dt2 + 2 B de/dt + dB/dt e are its
+    first and second time derivatives (finite differences), and the slope's likewise."""
+    rng = np.random.default_rng(3)
+    c0, c1, c2 = rng.normal(size=(3, 12))          # e(t) = c0 + c1 t + c2 t^2
+    length0, u0, du = 3.0, 1.3, -0.4              # fed: p0(t) = -(u0 t + du t^2 / 2), L(t) = L0 - p0(t)
+    p = 1.1                                        # material coordinate at t = 0
+
+    def at(t: float) -> tuple[np.ndarray, np.ndarray]:
+        fed = u0 * t + 0.5 * du * t * t
+        length = length0 + grows * fed
+        xi = (p + fed) / length
+        e = (c0 + c1 * t + c2 * t * t).reshape(4, 3)
+        return element.shape_functions(xi, length) @ e, element.shape_derivatives(xi, length) @ e
+
+    dt = 1e-4
+    (r_m, s_m), (r_0, s_0), (r_p, s_p) = at(-dt), at(0.0), at(dt)
+    n, b, bdot, n_p, b_p = _rows(p / length0, length0, grows, u0, du)
+    e, de, dde = c0.reshape(4, 3), c1.reshape(4, 3), 2.0 * c2.reshape(4, 3)
+    np.testing.assert_allclose(n @ de + b @ e, (r_p - r_m) / (2 * dt), rtol=1e-7, atol=1e-8)
+    np.testing.assert_allclose(n_p @ de + b_p @ e, (s_p - s_m) / (2 * dt), rtol=1e-7, atol=1e-8)
+    np.testing.assert_allclose(n @ dde + 2 * b @ de + bdot @ e, (r_p - 2 * r_0 + r_m) / dt**2, rtol=1e-5, atol=1e-5)
+    if grows:   # what a split of the fed element gives its new node, the slope's acceleration included
+        velocity, acceleration = material_rates(c0, c1, 2.0 * c2, length0, p / length0, u0, du)
+        np.testing.assert_allclose(velocity[:3], (r_p - r_m) / (2 * dt), rtol=1e-7, atol=1e-8)
+        np.testing.assert_allclose(velocity[3:], (s_p - s_m) / (2 * dt), rtol=1e-7, atol=1e-8)
+        np.testing.assert_allclose(acceleration[:3], (r_p - 2 * r_0 + r_m) / dt**2, rtol=1e-5, atol=1e-5)
+        np.testing.assert_allclose(acceleration[3:], (s_p - 2 * s_0 + s_m) / dt**2, rtol=1e-5, atol=1e-5)
+    # where the material enters it moves with the element's start plus the feed along the cable
+    n, b, *_ = _rows(0.0, length0, grows, u0, du)
+    np.testing.assert_allclose(n @ de + b @ e, de[0] + u0 * e[1], rtol=1e-13)
+
+
+def test_a_slow_veer_follows_the_hanging_cable_closed_form(veer):
+    """Top tension (mu L + M) g and end depth -(L + g (M L + mu L^2 / 2) / EA) at every
+    deployed length L = 20 m + payout, within 1 % (tension) and 1 mm (depth)."""
+    for sim, rec in veer.values():
+        length = LENGTH + rec["winch.payout"]
+        tension = (MU * length + MASS) * G
+        np.testing.assert_allclose(rec["tension.top"], tension, rtol=0.01)
+        depth = -(length + G * (MASS * length + 0.5 * MU * length**2) / EA)
+        np.testing.assert_allclose(rec["towbody.z"], depth, atol=1e-3)
+        assert rec["winch.payout"][-1] == pytest.approx(20.0, abs=1e-3)
+
+
+def test_the_mesh_grows_with_the_deployed_length_and_conserves_it(veer):
+    """Deployed (the elements) plus stored cable is the scene's, and the cable's mass
+    (from the element mass matrices) is mu times the deployed length."""
+    for n, (sim, rec) in veer.items():
+        nominal = LENGTH / n
+        assert sim.mesh.n_elements == n + round(20.0 / nominal)   # 20 m more at the nominal length
+        np.testing.assert_allclose(sim.mesh.lengths[1:], nominal, rtol=1e-12)
+        deployed = sim.mesh.node_arc[-1]
+        assert deployed == pytest.approx(LENGTH + float(sim.outputs()["winch.payout"]), rel=1e-13)
+        # the output at every sample (inside steps too: the interpolated winch state)
+        np.testing.assert_allclose(rec["winch.deployed"], LENGTH + rec["winch.payout"], rtol=1e-13)
+        ones = np.array([1.0, 0.0, 1.0, 0.0])          # a unit translation of an element
+        mass = sum(ones @ m @ ones for m in sim.model.el_mass)
+        assert mass == pytest.approx(MU * deployed, rel=1e-12)
+        assert MERGE_FACTOR * nominal < sim.mesh.lengths[0] < SPLIT_FACTOR * nominal
+
+
+def test_splits_leave_no_impulse_in_the_tension(veer):
+    """Meshed in 4 or 5 elements, the splits fall at other times (every 5 m or 4 m of
+    payout): the two tension histories agree within 1 % of the range of the tension's
+    dynamic part (its departure from the quasi-static closed form)."""
+    (_, a), (_, b) = veer[4], veer[5]
+    quasi_static = (MU * (LENGTH + a["winch.payout"]) + MASS) * G
+    dynamic = a["tension.top"] - quasi_static
+    assert np.max(np.abs(a["tension.top"] - b["tension.top"])) < 0.01 * np.ptp(dynamic)
+    assert np.ptp(dynamic) > 5.0   # the veer's own dynamics: its acceleration and the wire's axial mode
+
+
+def test_the_energy_balance_closes_through_a_veer(veer):
+    """The change of kinetic, strain and potential energy equals the work of the cable on
+    the spool, -T u, plus the strain energy the paid-out cable brings with it,
+    u T^2 / (2 EA), within the internal damping's share (below 0.05 % of the work)."""
+    sim, rec = veer[4]
+    t, u = rec["time"], np.gradient(rec["winch.payout"], rec["time"])
+    tension = rec["tension.top"]
+    power = -tension * u + u * tension**2 / (2 * EA)
+    work = np.sum(0.5 * (power[1:] + power[:-1]) * np.diff(t))
+    energy = rec["energy.kinetic"] + rec["energy.strain"] + rec["energy.gravity"]
+    assert energy[-1] - energy[0] == pytest.approx(work, rel=5e-4)
+    assert abs(work) > 4e4   # 20 m of a 2.5 kN pull
+
+
+def test_out_and_back_restores_the_mesh_and_the_hanging_state():
+    """Veer 20 m and haul it back: the merges undo the splits, the mesh is the scene's
+    again, and the cable hangs as it did (to the wire's remaining axial oscillation)."""
+    program = _ramp(1.0, 21.0, 0.0, 12.0, 201)
+    back = _ramp(22.0, 42.0, 12.0, 0.0, 201)
+    program = {k: program[k] + back[k] for k in program}
+    sim, rec = _run(program, 44.0, 0.05)
+    np.testing.assert_allclose(sim.mesh.lengths[1:], np.full(3, 5.0), rtol=1e-12)
+    assert sim.mesh.lengths[0] == pytest.approx(5.0, abs=1e-6)   # to the drive's tracking error
+    assert rec["winch.payout"][-1] == pytest.approx(0.0, abs=1e-6)
+    assert rec["towbody.z"][-1] == pytest.approx(-(LENGTH + G * (MASS * LENGTH + 0.5 * MU * LENGTH**2) / EA), abs=1e-4)
+    assert rec["tension.top"][-1] == pytest.approx((MU * LENGTH + MASS) * G, rel=0.01)
+
+
+def test_a_state_saved_before_a_split_restores_and_repeats_the_run():
+    """get_state at 1 m of payout, run across a split, set_state: the mesh of the saved
+    state comes back, and the run repeats bit for bit."""
+    sim = Simulation.from_scene(SCENE, _ramp(0.5, 10.5, 0.0, 6.0, 101))
+    sim.initialize()
+    sim.run(3.0, 0.1)
+    saved, n = sim.get_state(), sim.mesh.n_elements
+    first = sim.run(5.0, 0.1)
+    assert sim.mesh.n_elements == n + 1
+    sim.set_state(saved)
+    assert sim.mesh.n_elements == n
+    second = sim.run(5.0, 0.1)
+    for name in ("tension.top", "towbody.z", "winch.payout"):
+        np.testing.assert_array_equal(first[name], second[name])
+
+
+def test_hauling_in_the_whole_cable_is_an_error():
+    sim = Simulation.from_scene(SCENE, _ramp(0.5, 10.5, 0.0, -19.9, 101))
+    sim.initialize()
+    with pytest.raises(SolverError, match=r"winch.payout = .* deployed length cannot go below 0.75 m"):
+        sim.run(12.0, 0.1)
+
+
+def test_paying_out_more_than_the_drum_stores_is_an_error():
+    with pytest.raises(SceneError, match=r"winch.program_payout.*<= winch.stored_length = 200 m"):
+        Simulation.from_scene(SCENE, _ramp(0.5, 10.5, 0.0, 250.0, 11))
+    sim = Simulation.from_scene(SCENE, {"winch.stored_length": 1.0})
+    sim.initialize()
+    phi = -2.0 / sim.model.terms.feed.radius   # 2 m of payout
+    with pytest.raises(SolverError, match=r"winch.payout = .* exceeds the 1 m the drum holds"):
+        for _ in range(100):
+            sim.step(0.05, sim.motion.evaluate(sim.time), (phi, 0.0))
+
+
+@pytest.mark.parametrize("overrides, key", [
+    ({"winch.stored_length": None}, "winch.stored_length"),
+    ({"cable.top.position": None}, "cable.top.position"),
+    ({"winch.program_times": [0.0, 1.0], "winch.program_payout": [0.0]}, "winch.program_payout"),
+    ({"winch.program_times": [1.0, 0.0], "winch.program_payout": [0.0, 1.0]}, "winch.program_times"),
+])
+def test_bad_spool_settings_are_named(overrides, key):
+    with pytest.raises(SceneError, match=key.replace(".", r"\.")):
+        Simulation.from_scene(SCENE, overrides)
