@@ -836,3 +836,29 @@ def test_point_tangent_matches_central_differences_of_the_point_load(kind, cd):
         assert np.abs(dz - dz_fd).max() < 1e-5 * max(np.abs(dz_fd).max(), 1e-12)
         checked += 1
     assert checked > 80
+
+
+# ------------------------------------------------------------------ a body through the surface
+@pytest.mark.parametrize("height", [0.0, 0.6])
+def test_a_body_passes_through_the_surface_over_its_height(height):
+    """towbody.height = h: buoyancy rho V g, drag and added mass scale with the submerged
+    fraction clip(1/2 - z/h, 0, 1) of the centre's height z above the surface; h = 0: all
+    or nothing at the surface."""
+    from towcable_fmu.hydro.towbody import body_force
+
+    sim = Simulation.from_scene("full_scale_recovery", {"towbody.height": height})
+    water, body = sim.model.water, sim.model.terms.towbody
+    buoyancy = water.density * body.volume * water.gravity
+    assert buoyancy == pytest.approx(250.0 * 9.81 - 445.0, rel=1e-12)   # mass g - net weight
+    still, rising = np.zeros(3), np.array([0.0, 0.0, 0.5])
+    for z in (-1.0, -0.3, -0.15, -1e-9, 0.0, 0.1, 0.3, 1.0):
+        wet = min(max(0.5 - z / height, 0.0), 1.0) if height else float(z < 0.0)
+        force = np.empty(3)
+        body_force(water, body, np.array([0.0, 0.0, z]), still, still, 0.0, force)
+        assert force[2] == pytest.approx(wet * buoyancy, rel=1e-12, abs=1e-12), z
+        moving = np.empty(3)   # rising at 0.5 m/s: drag (and the lift of its foil) on the wet part
+        body_force(water, body, np.array([0.0, 0.0, z]), rising, still, 0.0, moving)
+        full = np.empty(3)
+        body_force(water, body, np.array([0.0, 0.0, -5.0]), rising, still, 0.0, full)
+        np.testing.assert_allclose(moving - force, wet * (full - buoyancy * np.array([0.0, 0.0, 1.0])),
+                                   rtol=1e-12, atol=1e-12)

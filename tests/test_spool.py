@@ -212,3 +212,195 @@ def test_paying_out_more_than_the_drum_stores_is_an_error():
 def test_bad_spool_settings_are_named(overrides, key):
     with pytest.raises(SceneError, match=key.replace(".", r"\.")):
         Simulation.from_scene(SCENE, overrides)
+
+
+@pytest.fixture(scope="module")
+def deploy() -> tuple[Simulation, dict, int]:
+    """full_scale_deploy as shipped, recorded at every step (0.05 s), and its element count at the start."""
+    sim = Simulation.from_scene("full_scale_deploy")
+    sim.initialize()
+    start = sim.n_elements
+    return sim, sim.run(720.0, 0.05), start
+
+
+def _events(rec: dict) -> np.ndarray:
+    """Samples just after the fed bare segment (nominal 25 m, 25 m deployed at the start)
+    split (its element reaching 37.5 m: payouts 12.5 + 25 k on the way out) or merged (down to
+    3.75 m: payouts 278.75 - 25 k on the way back)."""
+    t, p = rec["time"], rec["winch.payout"]
+    out = []
+    for k in range(12):
+        up, down = 12.5 + 25.0 * k, 278.75 - 25.0 * k
+        out += list(np.flatnonzero((p[:-1] < up) & (p[1:] >= up) & (t[1:] < 350.0)) + 1)
+        out += list(np.flatnonzero((p[:-1] > down) & (p[1:] <= down) & (t[1:] > 350.0)) + 1)
+    return np.array(sorted(out))
+
+
+def test_the_deploy_scene_veers_and_hauls_back_300_m(deploy):
+    """300 m out at 1 m/s and back while towing in the default sea: one element per 25 m
+    out and back, the deployed length is the scene's plus the payout to round-off, and the
+    cable stays on the drum and in the sheave's groove throughout."""
+    sim, rec, start = deploy
+    assert np.max(rec["winch.payout"]) == pytest.approx(300.0, abs=0.01)
+    assert sim.n_elements == start
+    np.testing.assert_allclose(rec["winch.deployed"] - rec["winch.payout"], rec["winch.deployed"][0], rtol=1e-13)
+    assert len(_events(rec)) == 24
+    assert np.min(rec["contact.winch_force"]) > 1000.0 and np.min(rec["contact.sheave_force"]) > 100.0
+    assert not np.any(rec["contact.detached"])
+    assert np.all(np.isfinite(rec["tension.top"])) and np.min(rec["tension.top"]) > 0.0
+
+
+@pytest.mark.parametrize("name", ["tension.top", "tension.sheave"])
+def test_splits_and_merges_leave_no_impulse_in_the_deploy_scene(deploy, name):
+    """At each of the 24 events the tension departs from its quadratic extrapolation
+    through the three samples before by less than 1 % of its range over the run, and no
+    more than it does at 99 % of the other steps (the sea and the program's knots)."""
+    _, rec, _ = deploy
+    x = rec[name]
+    jump = np.abs(x[3:] - (3 * x[2:-1] - 3 * x[1:-2] + x[:-3]))
+    events = _events(rec) - 3
+    others = np.delete(jump, events)
+    assert np.max(jump[events]) < 0.01 * np.ptp(x)
+    assert np.max(jump[events]) < np.percentile(others, 99)
+
+
+def test_the_towcable_fmu_pays_out_across_a_split_and_restores_its_state(fmu_paths):
+    """The TowCable FMU on the spool scene with a payout program: winch.deployed follows
+    the program through a split, the outputs are the Simulation's bit for bit, an FMU
+    state saved before the split restores across it, and a set-point beyond the drum's
+    store is refused with fmi2Discard and a message naming winch.payout, and an initial
+    set-point far from the scene's deployed length with fmi2Error."""
+    from fmpy.fmi1 import FMICallException
+
+    from fmu_util import open_fmu, outputs, set_inputs, ship_inputs
+
+    program = "winch.program_times = [0.5, 8.5]; winch.program_payout = [0.0, 4.0]"
+    fmu = open_fmu(fmu_paths, "TowCable", {"scene": SCENE, "overrides": program})
+    still = ship_inputs(np.zeros((3, 6)))
+    set_inputs(fmu, still)
+    fmu.exit_initialization()
+    sim = Simulation.from_scene(SCENE, {"winch.program_times": [0.5, 8.5], "winch.program_payout": [0.0, 4.0]})
+    sim.initialize(0.0, np.zeros((3, 6)))
+
+    def run(t: float, n: int) -> tuple[float, dict]:
+        for _ in range(n):
+            fmu.fmu.doStep(t, 0.05)
+            t += 0.05
+        return t, outputs(fmu)
+
+    t, _ = run(0.0, 60)                       # 1.5 m out: before the split at 2.5 m
+    state = fmu.fmu.getFMUstate()
+    t_end, first = run(t, 100)                # 3.75 m out at 8 s
+    t_sim = 0.0
+    for _ in range(160):                      # the same communication points
+        expected = sim.step((t_sim + 0.05) - t_sim, np.zeros((3, 6)))
+        t_sim += 0.05
+    for name in ("tension.top", "towbody.z", "winch.payout", "winch.deployed"):
+        assert first[name] == expected[name], name
+    assert first["winch.deployed"] == pytest.approx(LENGTH + 3.75, abs=1e-3)   # the program at 8 s
+    fmu.fmu.setFMUstate(state)
+    assert run(t, 100) == (t_end, first)
+    fmu.fmu.freeFMUstate(state)
+    fmu.free()
+
+    small = open_fmu(fmu_paths, "TowCable", {"scene": SCENE, "overrides": "winch.stored_length = 1.0"},
+                     instance="small drum")
+    set_inputs(small, still)
+    small.exit_initialization()
+    radius = 0.3 + 0.005
+    set_inputs(small, {"winch.phi_sp": -2.0 / radius})       # 2 m out of a drum storing 1 m
+    t, mark = 0.0, len(small.messages)
+    with pytest.raises(FMICallException) as info:
+        for _ in range(100):
+            small.fmu.doStep(t, 0.05)
+            t += 0.05
+    assert info.value.status == 2   # fmi2Discard
+    assert "winch.payout" in small.log_text(mark) and "1 m the drum holds" in small.log_text(mark)
+    small.free()
+
+    far = open_fmu(fmu_paths, "TowCable", {"scene": SCENE}, instance="far out")
+    set_inputs(far, {**still, "winch.phi_sp": -30.0 / radius})    # 30 m out at the start
+    mark = len(far.messages)
+    with pytest.raises(FMICallException) as info:
+        far.fmu.exitInitializationMode()
+    assert info.value.status == 3   # fmi2Error
+    assert "winch.phi_sp (initial)" in far.log_text(mark), far.log_text(mark)
+    far.free()
+
+
+def test_a_slow_haul_follows_the_statics_at_each_deployed_length():
+    """full_scale_recovery on a still ship, hauled 10 m in over 600 s (at most 0.033 m/s):
+    at each of five deployed lengths the spool tension and the body's depth are those of
+    the scene's statics with the bare segment that long (towcable static), within 1 %."""
+    still = {"motion": {"type": "none"}}
+    program = _ramp(10.0, 610.0, 0.0, -10.0, 601)
+    sim = Simulation.from_scene("full_scale_recovery", {**still, **program})
+    sim.initialize()
+    rec = sim.run(612.0, 1.0)
+    checked = 0
+    for t in (10.0, 160.0, 310.0, 460.0, 612.0):
+        k = int(np.argmin(np.abs(rec["time"] - t)))
+        length = 30.0 + float(rec["winch.payout"][k])
+        static = Simulation.from_scene("full_scale_recovery", {**still, "cable.segments[3].length": length})
+        expected = static.initialize()
+        assert rec["tension.top"][k] == pytest.approx(expected["tension.top"], rel=0.01), t
+        assert rec["towbody.z"][k] == pytest.approx(expected["towbody.z"], rel=0.01), t
+        checked += 1
+    assert checked == 5 and rec["winch.payout"][-1] == pytest.approx(-10.0, abs=1e-3)
+
+
+@pytest.fixture(scope="module")
+def recovery() -> tuple[Simulation, dict, int]:
+    """full_scale_recovery as shipped, recorded at every step, and its element count at the start."""
+    sim = Simulation.from_scene("full_scale_recovery")
+    sim.initialize()
+    start = sim.n_elements
+    return sim, sim.run(110.0, 0.05), start
+
+
+def test_the_recovery_lifts_the_body_through_the_splash_zone(recovery):
+    """29 m hauled in: the fed segment merges from six elements to one, the cable crosses
+    the waterline as it shortens, and the body, 27 m deep at the start, leaves the water
+    (its centre above the surface by more than its half height) after the haul."""
+    sim, rec, start = recovery
+    assert sim.n_elements == start - 5
+    assert rec["towbody.z"][0] < -26.0
+    after = rec["time"] > 85.0
+    assert np.max(rec["towbody.z"][after]) > 0.3 + 1.0
+    np.testing.assert_allclose(rec["winch.deployed"] - rec["winch.payout"], rec["winch.deployed"][0], rtol=1e-13)
+    assert np.all(np.isfinite(rec["tension.top"])) and np.min(rec["tension.top"]) > 0.0
+
+
+def test_merges_leave_no_impulse_in_the_recovery(recovery):
+    """At the five merges (the fed element, nominal 5 m, down to 0.75 m: payouts
+    -4.25 - 5 k) the spool tension departs from its quadratic extrapolation by less than 1 %
+    of its range, and no more than at 99 % of the other steps."""
+    _, rec, _ = recovery
+    p, x = rec["winch.payout"], rec["tension.top"]
+    events = np.array([int(np.flatnonzero((p[:-1] > v) & (p[1:] <= v))[0]) + 1 for v in -4.25 - 5.0 * np.arange(5)])
+    jump = np.abs(x[3:] - (3 * x[2:-1] - 3 * x[1:-2] + x[:-3]))
+    others = np.delete(jump, events - 3)
+    assert np.max(jump[events - 3]) < 0.01 * np.ptp(x)
+    assert np.max(jump[events - 3]) < np.percentile(others, 99)
+
+
+def test_initialising_again_starts_from_the_scene_mesh():
+    """After a veer the winch's splits are undone by a new initialisation: the scene's
+    mesh, 20 m deployed and the same statics."""
+    sim = Simulation.from_scene(SCENE, _ramp(0.5, 10.5, 0.0, 6.0, 101))
+    first = sim.initialize()
+    sim.run(11.0, 0.5)
+    assert sim.n_elements == 5
+    again = sim.initialize()
+    assert sim.n_elements == 4 and again["winch.deployed"] == LENGTH
+    assert again["tension.top"] == pytest.approx(first["tension.top"], rel=1e-9)
+
+
+def test_an_initial_set_point_far_from_the_scene_length_is_an_error():
+    """The cable starts on the scene's mesh: 30 m out at initialisation (the fed element
+    would be 35 m of a nominal 5 m) is refused with the range of payouts allowed."""
+    sim = Simulation.from_scene(SCENE)
+    radius = sim.model.terms.feed.radius
+    with pytest.raises(SceneError, match=r"winch.phi_sp \(initial\).*payout in \(-4.25, 2.5\) m"):
+        sim.initialize(0.0, np.zeros((3, 6)), (-30.0 / radius, 0.0))
+    assert sim.initialize(0.0, np.zeros((3, 6)), (-2.0 / radius, 0.0))["winch.deployed"] == pytest.approx(22.0)

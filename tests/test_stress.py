@@ -76,6 +76,57 @@ def test_winch_reels_in_and_out_at_full_rate_and_returns_to_its_statics():
     assert r[-1, 5] == pytest.approx(out0["towbody.z"], abs=0.3)
 
 
+
+def _veer_and_haul(speed: float, distance: float, ramp: float = 10.0) -> tuple[list[float], list[float]]:
+    """A payout program: hold 20 s, veer ``distance`` [m] at ``speed`` [m/s] with ramps of
+    constant acceleration over ``ramp`` [s] (knots every second), hold 30 s, haul it back."""
+    times, payout = [20.0], [0.0]
+    for sign in (1.0, -1.0):
+        t0, p0 = times[-1], payout[-1]
+        accel = speed / ramp
+        cruise = (distance - speed * ramp) / speed
+        ramp_up = [0.5 * accel * k * k for k in range(1, int(ramp) + 1)]
+        times += [t0 + k for k in range(1, int(ramp) + 1)] + [t0 + ramp + cruise]
+        payout += [p0 + sign * d for d in ramp_up] + [p0 + sign * (ramp_up[-1] + speed * cruise)]
+        t1, p1 = times[-1], payout[-1]
+        times += [t1 + k for k in range(1, int(ramp) + 1)]
+        payout += [p1 + sign * (speed * k - 0.5 * accel * k * k) for k in range(1, int(ramp) + 1)]
+        if sign > 0:
+            times.append(times[-1] + 30.0)
+            payout.append(payout[-1])
+    return times, payout
+
+
+@pytest.mark.parametrize("sea", ["default", "still"])
+def test_deploy_300_m_out_and_back_at_2_m_per_s(sea):
+    """full_scale_deploy veering 300 m and hauling it back at 2 m/s (0.2 m/s^2 ramps), in
+    the default sea and with a still ship: no NaN, the deployed length never below the
+    start's nor above it plus 300 m, the spans taut, contact only pushing and the cable in
+    the groove, and the energy (kinetic, strain, gravity, contact) over the last 30 s no
+    higher than over the first 20 s; with a still ship the sheave tension and the body's
+    depth come back to the statics."""
+    times, payout = _veer_and_haul(2.0, 300.0)
+    overrides = {"winch.program_times": times, "winch.program_payout": payout}
+    if sea == "still":
+        overrides["motion"] = {"type": "none"}
+    sim = Simulation.from_scene("full_scale_deploy", overrides)
+    out0 = sim.initialize()
+    res = sim.run(times[-1] + 60.0, 0.05)
+    _all_finite(res)
+    deployed = res["winch.deployed"]
+    assert deployed.min() >= deployed[0] - 1e-9 and deployed.max() == pytest.approx(deployed[0] + 300.0, abs=0.01)
+    assert res["tension.top"].min() > 0.5 * out0["tension.top"] and res["tension.sheave"].min() > 0.5 * out0["tension.sheave"]
+    assert res["contact.winch_force"].min() > 0.0 and res["contact.sheave_force"].min() > 0.0
+    assert not np.any(res["contact.detached"])
+    energy = res["energy.kinetic"] + res["energy.strain"] + res["energy.gravity"] + res["energy.contact"]
+    first, last = res["time"] < 20.0, res["time"] > times[-1] + 30.0
+    assert energy[last].mean() <= energy[first].mean() + 1e-3 * abs(energy[first].mean())
+    if sea == "still":
+        assert res["tension.sheave"][-1] == pytest.approx(out0["tension.sheave"], rel=2e-3)
+        assert res["towbody.z"][-1] == pytest.approx(out0["towbody.z"], abs=0.3)
+
+
+
 # ------------------------------------------------------------------ sheave detachment
 @pytest.mark.parametrize("stiffness", [1e6, 1e8])
 def test_large_roll_lifts_the_cable_out_of_the_sheave_cleanly(stiffness):

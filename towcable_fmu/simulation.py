@@ -182,7 +182,9 @@ class Simulation(SimulationDriver):
         self._stepped = None
         if setpoint is not None:
             self._setpoint = setpoint
-        if self._mesh is not self._scene_mesh:  # remeshed in an earlier run: start from the scene's mesh
+        if self.model.terms.feed.enabled and self._mesh is not self._scene_mesh:
+            # the winch remeshed the cable in an earlier run: start from the scene's mesh (a
+            # split asked for by the caller, without a spool end, stays)
             model = self._model_for(self._scene_mesh, self.output_scene.phi_nom)
             self._use(self._scene_mesh, model, genalpha.new_state(model))
         st = self.state
@@ -196,6 +198,7 @@ class Simulation(SimulationDriver):
                 st.phi[0] = program_setpoints(np.array([t0]), *self._program, self.output_scene.payout_radius,
                                               self.output_scene.phi_nom)[0, 0]
                 self._setpoint = (float(st.phi[0]), 0.0)
+        self._check_initial_feed(float(st.phi[0]))
         apply_feed(self.model, st.phi)  # a spool end's first element at the winch's rotation
         st.q[:] = (initial_coordinates(self.start, self.mesh, self.model, ship0, st.phi) if q0 is None
                    else self._checked_coordinates(q0, "q0"))
@@ -237,6 +240,30 @@ class Simulation(SimulationDriver):
         if not genalpha.initial_acceleration(self.model, self.options, st, self.workspace, t0, *drive):
             raise SolverError("the initial state has no finite acceleration (singular mass matrix or "
                               "non-finite forces)")
+
+    def _check_initial_feed(self, phi: float) -> None:
+        """A spool end starts on the scene's mesh: its fed element must lie inside the band
+        where it is neither split nor merged.
+
+        Raises
+        ------
+        SceneError
+            Naming the initial winch rotation and the payouts the scene can start from.
+        """
+        feed = self.model.terms.feed
+        if not feed.enabled:
+            return
+        shortest, longest = MERGE_FACTOR * feed.length_nom, SPLIT_FACTOR * feed.length_nom
+        length = feed.ref[0] + feed.radius * (feed.ref[1] - phi)
+        if shortest < length < longest:
+            return
+        payout = (shortest - feed.ref[0], longest - feed.ref[0])   # from phi_ref = phi_nom
+        raise SceneError("winch.phi_sp (initial)", phi,
+                         f"a rotation with a payout in ({payout[0]:.6g}, {payout[1]:.6g}) m, "
+                         f"phi in ({feed.ref[1] - payout[1] / feed.radius:.6g}, "
+                         f"{feed.ref[1] - payout[0] / feed.radius:.6g}) rad: a spool end starts from the scene's "
+                         "deployed length (its fed element between "
+                         f"{MERGE_FACTOR:g} and {SPLIT_FACTOR:g} nominal lengths); give the scene that length instead")
 
     def _start_turbulence(self, t0: float) -> None:
         """(Re)start the turbulence series at t0 (same seed: same series)."""
@@ -395,10 +422,15 @@ class Simulation(SimulationDriver):
 
     def _advance(self, dt: float, ship: np.ndarray, setpoint: tuple[float, float] | None) -> None:
         """One communication step: the ship state at its start extrapolated with constant
-        acceleration, the winch set-point (default: unchanged) held."""
+        acceleration, the winch set-point (default: unchanged) held; with a payout program
+        in the scene, the program's set-point at the step's start, its rate held (the
+        given set-point is not used)."""
+        t0 = self.time
+        if self._program is not None:
+            setpoint = tuple(program_setpoints(np.array([t0]), *self._program, self.output_scene.payout_radius,
+                                               self.output_scene.phi_nom)[0])
         if setpoint is not None:
             self._setpoint = setpoint
-        t0 = self.time
         self._integrate_to(t0 + dt, drive_poly.taylor_drive(t0, ship, self._setpoint))
 
     def split_element(self, element: int, xi: float = 0.5) -> dict[str, float]:
@@ -412,6 +444,8 @@ class Simulation(SimulationDriver):
         finer elements. The fed element of a spool end gives the new node the material's
         velocity and acceleration there (:func:`~towcable_fmu.ancf.feed.material_rates`):
         the node is material from then on. The next step factorises its matrix afresh.
+        A state saved before the split restores across it with a spool end (its state
+        carries the mesh); otherwise :meth:`set_state` refuses it (another model).
 
         Returns
         -------

@@ -35,5 +35,5 @@ def build_body(scene: Scene, index: int) -> BodyHydro:
         lift_k = 0.5 * w.density * body.lift.area * body.lift.coefficient
         lift_dir = np.array(body.lift.direction, dtype=float) / np.linalg.norm(body.lift.direction)
         lift_axis = np.array(body.lift.axis, dtype=float) / np.linalg.norm(body.lift.axis)
-    return BodyHydro(True, index, volume, w.density * volume * cm, w.density * volume * (cm + 1.0), cda,
+    return BodyHydro(True, index, volume, float(body.height), w.density * volume * cm, w.density * volume * (cm + 1.0), cda,
                      lift_k, lift_dir, lift_axis, np.zeros(1, dtype=np.int64))

@@ -6,6 +6,13 @@ of constant direction ``1/2 rho A C_L (V . axis)^2`` (section 5.2); the inertia 
 ``rho V (C_m,b + 1) dV_f/dt`` W(88); and the added mass ``rho V C_m,b`` per axis W(89),
 which enters the residual with the body's acceleration and the iteration matrix as a
 mass W(92). Above the surface only its weight acts (part of the constant loads).
+
+A body of height ``h > 0`` (``towbody.height``) passes through the surface over that
+height: all of these forces grow linearly with its submerged fraction
+``clip((z_s - z) / h + 1/2, 0, 1)`` of its centre's depth below the surface ``z_s``
+(a body of upright sides); the iteration matrix leaves out the fraction's change with
+depth (rho V g / h, small beside the cable's axial stiffness). ``h = 0``: a point, wet
+or dry all at once.
 """
 
 from __future__ import annotations
@@ -24,6 +31,7 @@ class BodyHydro(NamedTuple):
     enabled: bool
     index: int              #: first coordinate of the body's position
     volume: float           #: V [m^3]
+    height: float           #: h [m] over which it passes through the surface (0: a point)
     added_mass: np.ndarray  #: (3,) rho V C_m,b [kg]
     inertia: np.ndarray     #: (3,) rho V (C_m,b + 1) [kg]
     cda: np.ndarray         #: (3,) sum of C_D A per axis [m^2]
@@ -35,8 +43,16 @@ class BodyHydro(NamedTuple):
 
 def no_body() -> BodyHydro:
     """The body data of a scene without a body in water."""
-    return BodyHydro(False, 0, 0.0, np.zeros(3), np.zeros(3), np.zeros(3), 0.0, np.zeros(3), np.zeros(3),
+    return BodyHydro(False, 0, 0.0, 0.0, np.zeros(3), np.zeros(3), np.zeros(3), 0.0, np.zeros(3), np.zeros(3),
                      np.zeros(1, dtype=np.int64))
+
+
+@njit(cache=True, inline="always")
+def submerged(w: WaterModel, b: BodyHydro, z: float) -> float:
+    """Submerged fraction [-] of the body with its centre at height ``z`` [m]."""
+    if b.height <= 0.0:
+        return 1.0 if z < w.surface_z else 0.0
+    return min(max((w.surface_z - z) / b.height + 0.5, 0.0), 1.0)
 
 
 @njit(cache=True)
@@ -44,10 +60,11 @@ def body_force(w: WaterModel, b: BodyHydro, r: np.ndarray, rv: np.ndarray, ra: n
                out: np.ndarray) -> bool:
     """Hydrodynamic force on the body [N] (including its added-mass inertia) into ``out``.
 
-    Returns False (and zero force) when the body is above the surface.
+    Returns False (and zero force) when the body is out of the water.
     """
     out[:] = 0.0
-    if r[2] >= w.surface_z:
+    wet = submerged(w, b, r[2])
+    if wet == 0.0:
         return False
     b.calls[0] += 1
     vf = np.empty(3)
@@ -61,7 +78,7 @@ def body_force(w: WaterModel, b: BodyHydro, r: np.ndarray, rv: np.ndarray, ra: n
         out[k] += b.inertia[k] * af[k] - b.added_mass[k] * ra[k]
         along += rel[k] * b.lift_axis[k]
     for k in range(3):
-        out[k] += b.lift_k * along * along * b.lift_dir[k]
+        out[k] = wet * (out[k] + b.lift_k * along * along * b.lift_dir[k])
     return True
 
 
@@ -81,9 +98,10 @@ def add_residual(w: WaterModel, b: BodyHydro, q: np.ndarray, v: np.ndarray, a: n
 @njit(cache=True, inline="always")  # (as add_residual)
 def add_jacobian(w: WaterModel, b: BodyHydro, q: np.ndarray, v: np.ndarray, t: float, ca: float, cv: float,
                  block: np.ndarray) -> bool:
-    """The body's part of ``ca M + cv C`` (3x3, added to ``block``); False above the surface."""
+    """The body's part of ``ca M + cv C`` (3x3, added to ``block``); False out of the water."""
     i0 = b.index
-    if q[i0 + 2] >= w.surface_z:
+    wet = submerged(w, b, q[i0 + 2])
+    if wet == 0.0:
         return False
     vf = np.empty(3)
     af = np.empty(3)
@@ -93,7 +111,7 @@ def add_jacobian(w: WaterModel, b: BodyHydro, q: np.ndarray, v: np.ndarray, t: f
     for k in range(3):
         along += rel[k] * b.lift_axis[k]
     for k in range(3):
-        block[k, k] += ca * b.added_mass[k] + cv * w.density * b.cda[k] * abs(rel[k])
+        block[k, k] += wet * (ca * b.added_mass[k] + cv * w.density * b.cda[k] * abs(rel[k]))
         for m in range(3):
-            block[k, m] += cv * 2.0 * b.lift_k * along * b.lift_dir[k] * b.lift_axis[m]
+            block[k, m] += wet * cv * 2.0 * b.lift_k * along * b.lift_dir[k] * b.lift_axis[m]
     return True

@@ -377,6 +377,10 @@ class TowBody:
 
     mass: float = spec(unit="kg", gt=0.0, doc="mass m_b")
     volume: float | None = spec(None, unit="m^3", ge=0.0, doc="displaced volume V (or give 'net_weight')")
+    height: float = spec(0.0, unit="m", ge=0.0,
+                         doc="lumped body: the height over which it passes through the water surface (its "
+                             "buoyancy, drag, lift and added mass grow with the submerged fraction of it; 0: a "
+                             "point, wet or dry all at once)")
     net_weight: float | None = spec(None, unit="N",
                                     doc="weight minus buoyancy in water; sets the volume to "
                                         "(m_b g - net_weight) / (rho_f g)")
@@ -402,6 +406,8 @@ class TowBody:
                              "a table exactly when model = 'rigid'")
         if self.model == "rigid" and self.lift is not None:
             raise SceneError(f"{key}.lift", "[towbody.lift]", "absent with model = 'rigid' (not modelled)")
+        if self.model == "rigid" and self.height > 0.0:
+            raise SceneError(f"{key}.height", self.height, "0 with model = 'rigid' (its own hydrodynamics)")
 
 
 @dataclasses.dataclass(frozen=True)
