@@ -90,3 +90,34 @@ def run_python(code: str, env: dict | None = None) -> float:
     start = time.perf_counter()
     subprocess.run([sys.executable, "-c", code], check=True, env={**os.environ, **(env or {})})
     return time.perf_counter() - start
+
+
+def timed_scene_runs(scene: str, overrides: dict, duration: float, interval: float,
+                     repeats: int = 1) -> tuple[float, dict, dict]:
+    """Median wall time [s] of ``repeats`` runs of a scene (statics excluded), the last
+    run's series and its solver statistics."""
+    import numpy as np
+
+    from towcable_fmu.simulation import Simulation
+
+    results = []
+    for _ in range(repeats):
+        sim = Simulation.from_scene(scene, overrides)
+        sim.initialize()
+        start = time.perf_counter()
+        series = sim.run(duration, interval=interval)
+        results.append((time.perf_counter() - start, series, sim.statistics()))
+    return float(np.median([r[0] for r in results])), results[-1][1], results[-1][2]
+
+
+def relative_rms_errors(series: dict, ref: dict, names: Sequence[str]) -> dict[str, float]:
+    """RMS of each series' difference to the reference, relative to the reference's mean
+    magnitude, or for a depth (``towbody.z``) to its RMS motion about its mean."""
+    import numpy as np
+
+    out = {}
+    for name in names:
+        diff = np.sqrt(np.mean((series[name] - ref[name]) ** 2))
+        scale = np.std(ref[name]) if name == "towbody.z" else np.mean(np.abs(ref[name]))
+        out[name] = float(diff / scale)
+    return out

@@ -16,7 +16,7 @@ import time
 
 import numpy as np
 
-from common import RESULTS, machine_header, markdown_table
+from common import RESULTS, machine_header, markdown_table, relative_rms_errors, timed_scene_runs
 
 SCENE = "full_scale_deploy"
 DURATION = 720.0
@@ -36,26 +36,12 @@ def overrides(time_step: float | None = None, refine: int = 1) -> dict:
 
 def simulate(time_step: float | None = None, refine: int = 1, repeats: int = 1) -> tuple[float, dict, dict]:
     """Median wall time [s] of the run (statics excluded), the series and the statistics."""
-    from towcable_fmu.simulation import Simulation
-
-    results = []
-    for _ in range(repeats):
-        sim = Simulation.from_scene(SCENE, overrides(time_step, refine))
-        sim.initialize()
-        start = time.perf_counter()
-        series = sim.run(DURATION, interval=INTERVAL)
-        results.append((time.perf_counter() - start, series, sim.statistics()))
-    return float(np.median([r[0] for r in results])), results[-1][1], results[-1][2]
+    return timed_scene_runs(SCENE, overrides(time_step, refine), DURATION, INTERVAL, repeats)
 
 
 def errors(series: dict, ref: dict) -> dict[str, float]:
     """Relative RMS errors of the quantities users read."""
-    out = {}
-    for name in QUANTITIES:
-        diff = np.sqrt(np.mean((series[name] - ref[name]) ** 2))
-        scale = np.std(ref[name]) if name == "towbody.z" else np.mean(np.abs(ref[name]))
-        out[name] = float(diff / scale)
-    return out
+    return relative_rms_errors(series, ref, QUANTITIES)
 
 
 def cost_by_length(window: float = 20.0) -> list[tuple]:

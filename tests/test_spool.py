@@ -214,13 +214,18 @@ def test_bad_spool_settings_are_named(overrides, key):
         Simulation.from_scene(SCENE, overrides)
 
 
-@pytest.fixture(scope="module")
-def deploy() -> tuple[Simulation, dict, int]:
-    """full_scale_deploy as shipped, recorded at every step (0.05 s), and its element count at the start."""
-    sim = Simulation.from_scene("full_scale_deploy")
+def _as_shipped(scene: str, duration: float) -> tuple[Simulation, dict, int]:
+    """A built-in scene run as shipped, recorded at every step (0.05 s), and its element count at the start."""
+    sim = Simulation.from_scene(scene)
     sim.initialize()
     start = sim.n_elements
-    return sim, sim.run(720.0, 0.05), start
+    return sim, sim.run(duration, 0.05), start
+
+
+@pytest.fixture(scope="module")
+def deploy() -> tuple[Simulation, dict, int]:
+    """full_scale_deploy as shipped."""
+    return _as_shipped("full_scale_deploy", 720.0)
 
 
 def _events(rec: dict) -> np.ndarray:
@@ -351,11 +356,8 @@ def test_a_slow_haul_follows_the_statics_at_each_deployed_length():
 
 @pytest.fixture(scope="module")
 def recovery() -> tuple[Simulation, dict, int]:
-    """full_scale_recovery as shipped, recorded at every step, and its element count at the start."""
-    sim = Simulation.from_scene("full_scale_recovery")
-    sim.initialize()
-    start = sim.n_elements
-    return sim, sim.run(110.0, 0.05), start
+    """full_scale_recovery as shipped."""
+    return _as_shipped("full_scale_recovery", 110.0)
 
 
 def test_the_recovery_lifts_the_body_through_the_splash_zone(recovery):
@@ -404,3 +406,72 @@ def test_an_initial_set_point_far_from_the_scene_length_is_an_error():
     with pytest.raises(SceneError, match=r"winch.phi_sp \(initial\).*payout in \(-4.25, 2.5\) m"):
         sim.initialize(0.0, np.zeros((3, 6)), (-30.0 / radius, 0.0))
     assert sim.initialize(0.0, np.zeros((3, 6)), (-2.0 / radius, 0.0))["winch.deployed"] == pytest.approx(22.0)
+
+
+def test_a_section_hauled_onto_the_drum_comes_back_off_it_in_place():
+    """Two sections (20 m, then the lowest 10 m) of the same wire: hauled 25 m in, the fed
+    element passes into the lower section (the last 0.75 m of the upper one with it); paid
+    35 m out, the fed element is split exactly where the upper section's cable comes in
+    again. The lower section is then 10 m long again, the upper 30 + 10 m, and the tension
+    is that of the same 30 m of wire as one section (within 1 % of its range: the section
+    events disturb nothing)."""
+    two = str(Path(__file__).parent / "data" / "spool_two_sections.toml")
+    haul, veer = _ramp(1.0, 121.0, 0.0, -25.0, 1201), _ramp(122.0, 282.0, -25.0, 10.0, 1601)
+    program = {k: haul[k] + veer[k] for k in haul}
+    sim = Simulation.from_scene(two, program)
+    sim.initialize()
+    rec = sim.run(284.0, 0.05)
+    labels, lengths = sim.mesh.segment_of_element, sim.mesh.lengths
+    assert np.sum(lengths[labels == 1]) == pytest.approx(10.0, rel=1e-12)
+    assert np.sum(lengths[labels == 0]) == pytest.approx(20.0 + 10.0, rel=1e-6)   # (the drive's tracking error)
+    assert np.min(rec["winch.deployed"]) == pytest.approx(5.0, abs=1e-3)          # 25 m in: 5 m of the lower left
+    one = Simulation.from_scene(SCENE, {**program, "cable.segments[0].length": 30.0, "cable.segments[0].elements": 6})
+    one.initialize()
+    twin = one.run(284.0, 0.05)
+    assert np.max(np.abs(rec["tension.top"] - twin["tension.top"])) < 0.01 * np.ptp(twin["tension.top"])
+
+
+def test_a_section_of_other_cable_cannot_pass_the_gear():
+    """The lower section 50 % heavier: hauling it onto the drum through the gear, whose mesh
+    carries the fed segment's cable, is an error naming the section and the property."""
+    two = str(Path(__file__).parent / "data" / "spool_two_sections.toml")
+    sim = Simulation.from_scene(two, {**_ramp(1.0, 41.0, 0.0, -25.0, 401),
+                                      "cable.segments[1].mass_per_length": 1.5 * MU})
+    sim.initialize()
+    with pytest.raises(SolverError, match=r"cable.segments\[1\] onto the drum, but its mass_per_length"):
+        sim.run(42.0, 0.1)
+
+
+def test_the_spool_pays_out_as_the_cable_pinned_on_the_drum_does():
+    """full_scale (cable end pinned on the drum, wound by its rotation) against the same
+    system paid out from a spool (full_scale_deploy meshed as full_scale: 300 m bare in 8,
+    150 m faired in 6), a still ship, 1 m paid out over 20 s: the same statics, and the
+    sheave tension, the pull on the body and its depth agree within 1 % of their ranges.
+    The drum contact is made stiff (k_N = 1e8): the scene's soft drum lets the wound cable
+    sink 5.5 cm, so the pinned model pays out about 15 % less cable than its payout."""
+    common = {"motion": {"type": "none"}, "winch.contact.stiffness": 1e8, **_ramp(5.0, 25.0, 0.0, 1.0, 201)}
+    pinned = Simulation.from_scene("full_scale", {**common, "compensation.algorithm": "none"})
+    spool = Simulation.from_scene("full_scale_deploy", {
+        **common, "cable.segments[3].length": 300.0, "cable.segments[3].elements": 8,
+        "cable.segments[4].length": 150.0, "cable.segments[4].elements": 6})
+    first, second = pinned.initialize(), spool.initialize()
+    assert spool.n_elements == pinned.n_elements
+    for name in ("tension.sheave", "towbody.z"):
+        assert second[name] == pytest.approx(first[name], rel=1e-7)
+    a, b = pinned.run(45.0, 0.05), spool.run(45.0, 0.05)
+    for name in ("tension.sheave", "tension.towbody", "towbody.z"):
+        assert np.max(np.abs(a[name] - b[name])) < 0.01 * np.ptp(a[name]), name
+    assert np.ptp(a["towbody.z"]) > 1.0   # the body sank by the metre paid out
+
+
+def test_frames_of_a_remeshed_cable_are_padded_with_its_end():
+    """Animation snapshots across a split: one node more after it; the earlier frames
+    repeat their bottom end up to the same number of rows."""
+    from towcable_fmu.frames import run_with_frames
+
+    sim = Simulation.from_scene(SCENE, _ramp(0.5, 10.5, 0.0, 6.0, 101))
+    _, frames = run_with_frames(sim, 11.0, 0.5, 0.1)
+    assert frames.nodes.shape[1] == 6 == sim.mesh.n_nodes
+    first = frames.nodes[0]
+    np.testing.assert_array_equal(first[4:], np.repeat(first[4:5], 2, axis=0))   # 5 nodes, the last twice
+    np.testing.assert_array_equal(frames.nodes[-1], sim.node_positions())

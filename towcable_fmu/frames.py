@@ -33,6 +33,9 @@ class Frames:
         Cable node positions [m], shape (k, nn, 3).
     centreline
         Cable centreline sampled within the elements [m], shape (k, m, 3).
+
+        A cable whose winch adds and removes elements (a spool end) has fewer nodes in
+        some frames: their rows repeat the last point (the bottom end) up to the most.
     ship
         Ship pose (x, y, z [m], roll, pitch, yaw [rad]), shape (k, 6).
     winch_phi
@@ -84,8 +87,14 @@ class FrameRecorder:
     def frames(self) -> Frames:
         """The snapshots taken so far."""
         t, nodes, line, ship, phi, load = zip(*self._rows)
-        return Frames(time=np.array(t), nodes=np.stack(nodes), centreline=np.stack(line), ship=np.stack(ship),
+        return Frames(time=np.array(t), nodes=_padded(nodes), centreline=_padded(line), ship=np.stack(ship),
                       winch_phi=np.array(phi), load=None if load[0] is None else np.stack(load))
+
+
+def _padded(rows: tuple[np.ndarray, ...]) -> np.ndarray:
+    """(n_i, 3) point rows stacked to (k, max n_i, 3), each padded with its last point."""
+    most = max(r.shape[0] for r in rows)
+    return np.stack([np.concatenate([r, np.repeat(r[-1:], most - r.shape[0], axis=0)]) for r in rows])
 
 
 def frame_stride(frame_interval: float, interval: float) -> int:

@@ -14,7 +14,8 @@ import numpy as np
 
 from . import drive as drive_poly
 from .ancf import element, measures
-from .ancf.feed import MERGE_FACTOR, SPLIT_FACTOR, apply_feed, feed_event, material_rates
+from .ancf.feed import (BOUNDARY_BAND, MERGE_FACTOR, SPLIT_FACTOR, apply_feed, feed_event, material_rates,
+                        section_boundaries)
 from .ancf.initial_layout import initial_coordinates, layout_from_scene
 from .ancf.mesh import build_mesh, build_model, held_load_forces
 from .ancf.model import TAUT_RESIDUAL, CableModel, Mesh
@@ -389,7 +390,7 @@ class Simulation(SimulationDriver):
         constant-tension winch's set-point from the tension of the current state (one
         control interval: the table's span); the scene's payout program
         (:mod:`towcable_fmu.winch_program`); else the set-point held."""
-        if self.compensation is None and self._program is not None:
+        if self._program is not None:  # (the scene has no compensation algorithm then)
             setpoints = program_setpoints(times, *self._program, self.output_scene.payout_radius,
                                           self.output_scene.phi_nom)
             self._setpoint = (float(setpoints[-1, 0]), float(setpoints[-1, 1]))
@@ -458,9 +459,14 @@ class Simulation(SimulationDriver):
             If ``element`` or ``xi`` is out of range, or the scene has wake oscillators
             (their states belong to the elements); nothing is changed.
         """
+        return self._split(element, xi)
+
+    def _split(self, element: int, xi: float, first_segment: int | None = None) -> dict[str, float]:
+        """:meth:`split_element`, the first piece in ``first_segment`` if given (a section
+        boundary of a spool end's cable)."""
         old = self.mesh
         try:
-            mesh = split_mesh(old, element, xi)
+            mesh = split_mesh(old, element, xi, first_segment)
         except ValueError as exc:
             raise SceneError("split_element", (element, xi), str(exc)) from None
         st = self.state
@@ -493,9 +499,14 @@ class Simulation(SimulationDriver):
             If there is no such pair in one segment, or the scene has wake oscillators;
             nothing is changed.
         """
+        return self._merge(element)
+
+    def _merge(self, element: int, across: bool = False) -> dict[str, float]:
+        """:meth:`merge_elements`; with ``across``, also two elements of different segments
+        (the merged one in the second's)."""
         old = self.mesh
         try:
-            mesh = merge_mesh(old, element)
+            mesh = merge_mesh(old, element, across)
         except ValueError as exc:
             raise SceneError("merge_elements", element, str(exc)) from None
         position, slope = merge_defect(self.state.q, old, element)
@@ -544,32 +555,64 @@ class Simulation(SimulationDriver):
         self._last_outputs = {}
 
     def _follow_feed(self) -> bool:
-        """After a step reported a feed event: split a spool end's fed element when it has
-        grown to SPLIT_FACTOR nominal lengths (one nominal element downstream, the rest
-        upstream, where the cable comes in) or merge it with the next when it has shrunk
-        to MERGE_FACTOR; False if there is no event (the step failed).
+        """After a step reported a feed event, remesh a spool end's fed element: split it
+        where the next section's cable came in (``BOUNDARY_BAND`` nominal lengths past a
+        section boundary: the downstream piece keeps its section, the fed element takes the
+        new one); split it when it has grown to SPLIT_FACTOR nominal lengths (one nominal
+        element downstream, the rest upstream, where the cable comes in); or merge it with
+        the next when it has shrunk to MERGE_FACTOR (with the next section's element when
+        its own section is all hauled in: the merged element takes the next section, and
+        the last piece of the fed one, at most MERGE_FACTOR of a nominal length, with it).
+        False if there is no event (the step failed).
 
         Raises
         ------
         SolverError
-            If the winch hauls in beyond the first segment (no element left to merge with).
+            If the winch hauls in the whole cable, or a section whose cable differs from the
+            gear's (it cannot pass over drum and sheave).
         """
         if not feed_event(self.model):
             return False
-        fed = self.model.terms.feed.element
-        length, nominal = float(self.model.el_len[fed]), self.model.terms.feed.length_nom
-        if length >= SPLIT_FACTOR * nominal:
-            self.split_element(fed, (length - nominal) / length)
-            return True
+        feed = self.model.terms.feed
+        fed, length, nominal = feed.element, float(self.model.el_len[feed.element]), feed.length_nom
         mesh = self.mesh
-        if mesh.n_elements < fed + 2 or mesh.segment_of_element[fed + 1] != mesh.segment_of_element[fed]:
-            shortest = float(mesh.node_arc[-1] - length + MERGE_FACTOR * nominal)
+        if length >= feed.boundary + BOUNDARY_BAND * nominal:
+            boundaries = section_boundaries(np.array([seg.length for seg in self.scene.cable.segments]),
+                                            self.scene.winch.gear_segments)
+            upper = int(np.argmin(np.abs(boundaries - (np.sum(mesh.lengths[fed + 1:]) + feed.boundary))))
+            # the piece downstream, up to the boundary, keeps its section
+            self._split(fed, (length - feed.boundary) / length, self.scene.winch.gear_segments + upper)
+        elif length >= SPLIT_FACTOR * nominal:
+            self._split(fed, (length - nominal) / length)
+        elif mesh.n_elements > fed + 1 and mesh.segment_of_element[fed + 1] == mesh.segment_of_element[fed]:
+            self._merge(fed)
+        elif mesh.n_elements > fed + 1:
+            self._check_passes_the_gear(int(mesh.segment_of_element[fed + 1]))
+            self._merge(fed, across=True)
+        else:
             raise SolverError(f"winch.payout = {float(self._output_array()[_PAYOUT]):.6g} m at t = {self.time:.6g} s "
-                              f"hauls in the whole fed segment: the deployed length cannot go below "
-                              f"{shortest:.6g} m (the other segments and {MERGE_FACTOR:g} of a fed segment's "
-                              "element); limit the winch's set-point")
-        self.merge_elements(fed)
+                              f"hauls in the whole cable: the deployed length cannot go below "
+                              f"{float(mesh.node_arc[fed]) + MERGE_FACTOR * nominal:.6g} m (the gear and "
+                              f"{MERGE_FACTOR:g} of the last element); limit the winch's set-point")
         return True
+
+    def _check_passes_the_gear(self, segment: int) -> None:
+        """A section hauled in passes over drum and sheave on the gear's mesh: its cable must
+        be the gear's.
+
+        Raises
+        ------
+        SolverError
+            Naming the first property that differs.
+        """
+        segments, gear = self.scene.cable.segments, self.scene.winch.gear_segments
+        for name in ("diameter", "mass_per_length", "EA", "EI", "damping"):
+            if getattr(segments[segment], name) != getattr(segments[gear], name):
+                raise SolverError(f"winch.payout = {float(self._output_array()[_PAYOUT]):.6g} m at t = {self.time:.6g} s "
+                                  f"hauls cable.segments[{segment}] onto the drum, but its {name} = "
+                                  f"{getattr(segments[segment], name)!r} differs from the gear's "
+                                  f"{getattr(segments[gear], name)!r}: it cannot pass over drum and sheave on "
+                                  "their mesh; limit the winch's set-point")
 
     # --------------------------------------------------------------- outputs
     def reactions(self) -> np.ndarray:

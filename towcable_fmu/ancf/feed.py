@@ -61,6 +61,10 @@ SPLIT_FACTOR = 1.5
 #: ... and merged with the next element when it is this short (a band of 0.35 L_nom each
 #: way, so a winch reversing after an event does not undo it at once)
 MERGE_FACTOR = 0.15
+#: the fed element is split at a section boundary (bare to faired cable, say) once this many
+#: nominal lengths of the next section's cable have come in past it (the same band: a fed
+#: element merged across the boundary on the way in holds at most MERGE_FACTOR of them)
+BOUNDARY_BAND = 0.35
 
 
 @njit(cache=True, inline="always")
@@ -160,12 +164,14 @@ def apply_feed(model, phi: np.ndarray) -> None:
 @njit(cache=True)
 def feed_event(model) -> bool:
     """Whether the fed element has left its band: as long as ``SPLIT_FACTOR`` nominal
-    lengths or as short as ``MERGE_FACTOR`` (the simulation then splits or merges it)."""
+    lengths, as short as ``MERGE_FACTOR``, or ``BOUNDARY_BAND`` nominal lengths past a
+    section boundary (the simulation then splits or merges it)."""
     f = model.terms.feed
     if not f.enabled:
         return False
     length = model.el_len[f.element]
-    return length >= SPLIT_FACTOR * f.length_nom or length <= MERGE_FACTOR * f.length_nom
+    return (length >= SPLIT_FACTOR * f.length_nom or length <= MERGE_FACTOR * f.length_nom
+            or length >= f.boundary + BOUNDARY_BAND * f.length_nom)
 
 
 def material_rates(nodal_q: np.ndarray, nodal_v: np.ndarray, nodal_a: np.ndarray, length: float, xi: float,
@@ -209,3 +215,24 @@ def material_rates(nodal_q: np.ndarray, nodal_v: np.ndarray, nodal_a: np.ndarray
     velocity = np.concatenate([n @ de + b @ e, np_ @ de + bp @ e])
     acceleration = np.concatenate([n @ dde + 2.0 * b @ de + bdot @ e, np_ @ dde + 2.0 * bp @ de + bp_dot @ e])
     return velocity, acceleration
+
+
+def section_boundaries(segment_lengths: np.ndarray, gear: int) -> np.ndarray:
+    """Where the cable's sections meet, as material coordinates from the bottom end [m].
+
+    The segments after the gear are the cable's sections, from the top: the first is the
+    fed segment, whose cable continues onto the drum. Entry ``k`` is the material
+    coordinate where segment ``k - 1`` (above) meets segment ``k`` (below), for
+    ``k = gear + 1 ... n - 1`` (index ``k - gear - 1``).
+    """
+    below = np.cumsum(np.asarray(segment_lengths, dtype=float)[::-1])[::-1]   # from segment k down
+    return below[gear + 1:]
+
+
+def boundary_above(boundaries: np.ndarray, lengths: np.ndarray, fed: int) -> float:
+    """The fed element's length [m] at which the next section's cable comes in: the
+    nearest section boundary above its downstream node, measured from that node (inf:
+    none, the fed section continues onto the drum). ``lengths``: the elements' lengths [m]."""
+    node = float(np.sum(lengths[fed + 1:]))      # material coordinate of the downstream node
+    above = boundaries[boundaries > node + 1e-9 * max(1.0, node)]
+    return float(above.min() - node) if above.size else np.inf

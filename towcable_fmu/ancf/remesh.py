@@ -36,9 +36,10 @@ def _check(mesh: Mesh, e: int, xi: float) -> None:
         raise ValueError(f"xi = {xi!r} must lie inside the element, in (0, 1)")
 
 
-def split_mesh(mesh: Mesh, e: int, xi: float = 0.5) -> Mesh:
+def split_mesh(mesh: Mesh, e: int, xi: float = 0.5, first_segment: int | None = None) -> Mesh:
     """``mesh`` with element ``e`` split at normalised position ``xi`` in (0, 1): two
-    elements of lengths ``xi L`` and ``(1 - xi) L`` [m], in the same segment.
+    elements of lengths ``xi L`` and ``(1 - xi) L`` [m], in the same segment (or the first
+    in ``first_segment``: a split at a section boundary of cable paid out from a drum).
 
     Raises
     ------
@@ -48,7 +49,8 @@ def split_mesh(mesh: Mesh, e: int, xi: float = 0.5) -> Mesh:
     _check(mesh, e, xi)
     length = mesh.lengths[e]
     lengths = np.concatenate([mesh.lengths[:e], [xi * length, (1.0 - xi) * length], mesh.lengths[e + 1:]])
-    segments = np.insert(mesh.segment_of_element, e, mesh.segment_of_element[e])
+    segments = np.insert(mesh.segment_of_element, e,
+                         mesh.segment_of_element[e] if first_segment is None else first_segment)
     arc = np.insert(mesh.node_arc, e + 1, mesh.node_arc[e] + xi * length)
     return Mesh(lengths, segments, arc)
 
@@ -75,22 +77,24 @@ def split_coordinates(x: np.ndarray, mesh: Mesh, e: int, xi: float = 0.5) -> np.
     return np.concatenate([x[:6 * (e + 1)], value, slope, x[6 * (e + 1):]])
 
 
-def _check_pair(mesh: Mesh, e: int) -> None:
+def _check_pair(mesh: Mesh, e: int, across: bool = False) -> None:
     if not (isinstance(e, (int, np.integer)) and 0 <= e < mesh.n_elements - 1):
         raise ValueError(f"element = {e!r} has no next element to merge with (0 ... {mesh.n_elements - 2})")
-    if mesh.segment_of_element[e] != mesh.segment_of_element[e + 1]:
+    if not across and mesh.segment_of_element[e] != mesh.segment_of_element[e + 1]:
         raise ValueError(f"elements {e} and {e + 1} belong to different segments (their properties differ)")
 
 
-def merge_mesh(mesh: Mesh, e: int) -> Mesh:
-    """``mesh`` with elements ``e`` and ``e + 1`` (of one segment) merged into one.
+def merge_mesh(mesh: Mesh, e: int, across: bool = False) -> Mesh:
+    """``mesh`` with elements ``e`` and ``e + 1`` (of one segment) merged into one; with
+    ``across``, also two of different segments, the merged element in the second's (the
+    short last piece of a section hauled onto a drum).
 
     Raises
     ------
     ValueError
-        If ``e + 1`` is not an element or the two belong to different segments.
+        If ``e + 1`` is not an element or the two belong to different segments (without ``across``).
     """
-    _check_pair(mesh, e)
+    _check_pair(mesh, e, across)
     lengths = np.concatenate([mesh.lengths[:e], [mesh.lengths[e] + mesh.lengths[e + 1]], mesh.lengths[e + 2:]])
     return Mesh(lengths, np.delete(mesh.segment_of_element, e), np.delete(mesh.node_arc, e + 1))
 
@@ -99,7 +103,7 @@ def merge_coordinates(x: np.ndarray, mesh: Mesh, e: int) -> np.ndarray:
     """Coordinate vector ``x`` of ``mesh`` without the node between elements ``e`` and
     ``e + 1`` (see :func:`merge_mesh`): the merged element keeps the outer nodes, so it is
     the two elements exactly when they form one cubic (:func:`merge_defect`)."""
-    _check_pair(mesh, e)
+    _check_pair(mesh, e, across=True)
     x = np.asarray(x, dtype=float)
     return np.concatenate([x[:6 * (e + 1)], x[6 * (e + 2):]])
 
@@ -108,7 +112,7 @@ def merge_defect(x: np.ndarray, mesh: Mesh, e: int) -> tuple[float, float]:
     """How far the merged element of :func:`merge_coordinates` misses the node it drops:
     the distance [m] between the node's position and the merged cubic there, and the
     norm [-] of the difference of the slopes (0, 0 when the two elements form one cubic)."""
-    _check_pair(mesh, e)
+    _check_pair(mesh, e, across=True)
     x = np.asarray(x, dtype=float)
     length = mesh.lengths[e] + mesh.lengths[e + 1]
     xi = mesh.lengths[e] / length

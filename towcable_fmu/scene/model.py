@@ -534,9 +534,10 @@ class Scene:
             self._check_spool()
         elif self.winch is not None and self.winch.gear_segments:
             raise SceneError("winch.gear_segments", self.winch.gear_segments, "0 unless cable.top.type = 'spool'")
-        if self.compensation is not None and self.winch is not None and self.winch.program_times:
+        if (self.compensation is not None and self.compensation.get("algorithm", "none") != "none"
+                and self.winch is not None and self.winch.program_times):
             raise SceneError("winch.program_times", list(self.winch.program_times),
-                             "empty with a [compensation] (it sets the winch's set-point)")
+                             "empty with a [compensation] algorithm (it sets the winch's set-point)")
         if (self.winch is not None and self.winch.stored_length is not None and self.winch.program_payout
                 and max(self.winch.program_payout) > self.winch.stored_length):
             raise SceneError("winch.program_payout", list(self.winch.program_payout),

@@ -16,6 +16,7 @@ import numpy as np
 from ...kernel_cache import njit
 from ...scene.model import Scene
 from .. import element
+from ..feed import boundary_above, section_boundaries
 from ..model import CableModel, Mesh, Motion
 from .term import add_element_block
 
@@ -32,7 +33,8 @@ class Data(NamedTuple):
     element: int             #: the fed element (after the gear's elements; its length follows the winch)
     ref: np.ndarray          #: (2,) length L_ref [m] at winch rotation phi_ref [rad] (updated at a remesh)
     radius: float            #: payout radius r_w + d/2 [m]
-    length_nom: float        #: nominal element length of the fed segment [m]
+    length_nom: float        #: nominal element length of the fed element's segment [m]
+    boundary: float          #: the fed element's length [m] at which the next section's cable comes in (inf: none)
     mass_per_length: float   #: [kg/m]
     ei: float                #: bending stiffness [N m^2]
     damping: float           #: internal damping coefficient c [N s]
@@ -49,11 +51,12 @@ class Data(NamedTuple):
 
 def build(scene: Scene, mesh: Mesh, model: CableModel) -> Data:
     """The feed of a spool end (disabled for any other top end): the fed element is the
-    first of the segment after the gear (``winch.gear_segments``)."""
+    first after the gear's (``winch.gear_segments``); its section is its segment's."""
     enabled = scene.cable.top.type == "spool"
     gear = scene.winch.gear_segments if enabled else 0
-    seg = scene.cable.segments[gear]
-    fed = int(np.flatnonzero(mesh.segment_of_element == gear)[0])
+    fed = int(np.count_nonzero(mesh.segment_of_element < gear))
+    seg = scene.cable.segments[int(mesh.segment_of_element[fed])]
+    boundaries = section_boundaries(np.array([s.length for s in scene.cable.segments]), gear)
     x, w = element.gauss_legendre(GAUSS_POINTS)
     h = np.stack([element.shape_functions(x, 1.0), element.shape_derivatives(x, 1.0),
                   element.shape_second_derivatives(x, 1.0)], axis=1)
@@ -63,7 +66,8 @@ def build(scene: Scene, mesh: Mesh, model: CableModel) -> Data:
     return Data(enabled=enabled, element=fed,
                 ref=np.array([length, float(scene.winch.phi_nom) if enabled else 0.0]),
                 radius=scene.winch.radius + 0.5 * seg.diameter if enabled else 0.0,
-                length_nom=seg.length / seg.elements, mass_per_length=seg.mass_per_length, ei=seg.EI,
+                length_nom=seg.length / seg.elements, boundary=boundary_above(boundaries, mesh.lengths, fed),
+                mass_per_length=seg.mass_per_length, ei=seg.EI,
                 damping=seg.damping, unit_mass=element.mass_matrix(1.0, 1.0),
                 unit_bend=element.bending_matrix(1.0, 1.0), unit_damp=element.damping_matrix(1.0, 1.0),
                 unit_load=element.load_vector(1.0), base_load=base, gauss_x=x, gauss_w=w, gauss_h=h,
