@@ -14,8 +14,8 @@ import numpy as np
 
 from . import drive as drive_poly
 from .ancf import element, measures
-from .ancf.feed import (BOUNDARY_BAND, MERGE_FACTOR, SPLIT_FACTOR, apply_feed, feed_event, material_rates,
-                        section_boundaries)
+from .ancf.feed import (BOUNDARY_BAND, MERGE_FACTOR, SPLIT_FACTOR, apply_feed, fed_length, feed_event,
+                        material_rates, section_boundaries)
 from .ancf.initial_layout import initial_coordinates, layout_from_scene
 from .ancf.mesh import build_mesh, build_model, held_load_forces
 from .ancf.model import TAUT_RESIDUAL, CableModel, Mesh
@@ -196,8 +196,7 @@ class Simulation(SimulationDriver):
             st.phi[0] = self._setpoint[0] if setpoint is not None else self.output_scene.phi_nom
             self._setpoint = (float(st.phi[0]), self._setpoint[1] if setpoint is not None else 0.0)
             if setpoint is None and self._program is not None:  # where the payout program starts
-                st.phi[0] = program_setpoints(np.array([t0]), *self._program, self.output_scene.payout_radius,
-                                              self.output_scene.phi_nom)[0, 0]
+                st.phi[0] = self._program_setpoints(np.array([t0]))[0, 0]
                 self._setpoint = (float(st.phi[0]), 0.0)
         self._check_initial_feed(float(st.phi[0]))
         apply_feed(self.model, st.phi)  # a spool end's first element at the winch's rotation
@@ -255,8 +254,7 @@ class Simulation(SimulationDriver):
         if not feed.enabled:
             return
         shortest, longest = MERGE_FACTOR * feed.length_nom, SPLIT_FACTOR * feed.length_nom
-        length = feed.ref[0] + feed.radius * (feed.ref[1] - phi)
-        if shortest < length < longest:
+        if shortest < fed_length.py_func(feed, phi) < longest:  # (in Python: no kernel to compile for it)
             return
         payout = (shortest - feed.ref[0], longest - feed.ref[0])   # from phi_ref = phi_nom
         raise SceneError("winch.phi_sp (initial)", phi,
@@ -391,8 +389,7 @@ class Simulation(SimulationDriver):
         control interval: the table's span); the scene's payout program
         (:mod:`towcable_fmu.winch_program`); else the set-point held."""
         if self._program is not None:  # (the scene has no compensation algorithm then)
-            setpoints = program_setpoints(times, *self._program, self.output_scene.payout_radius,
-                                          self.output_scene.phi_nom)
+            setpoints = self._program_setpoints(times)
             self._setpoint = (float(setpoints[-1, 0]), float(setpoints[-1, 1]))
             return setpoints
         if self.compensation is None:
@@ -411,6 +408,10 @@ class Simulation(SimulationDriver):
         self._setpoint = (float(setpoints[-1, 0]), float(setpoints[-1, 1]))
         return setpoints
 
+    def _program_setpoints(self, times: np.ndarray) -> np.ndarray:
+        """The scene's payout program as drive set-points at ``times`` [s]: (k, 2) phi_sp [rad], rate [rad/s]."""
+        return program_setpoints(times, *self._program, self.output_scene.payout_radius, self.output_scene.phi_nom)
+
     def _current_outputs(self) -> dict[str, float]:
         """The outputs of the current state (the latest, unless the state moved since)."""
         return self._last_outputs if self._last_outputs.get("time") == self.time else self.outputs()
@@ -428,8 +429,7 @@ class Simulation(SimulationDriver):
         given set-point is not used)."""
         t0 = self.time
         if self._program is not None:
-            setpoint = tuple(program_setpoints(np.array([t0]), *self._program, self.output_scene.payout_radius,
-                                               self.output_scene.phi_nom)[0])
+            setpoint = tuple(self._program_setpoints(np.array([t0]))[0])
         if setpoint is not None:
             self._setpoint = setpoint
         self._integrate_to(t0 + dt, drive_poly.taylor_drive(t0, ship, self._setpoint))
@@ -606,13 +606,13 @@ class Simulation(SimulationDriver):
             Naming the first property that differs.
         """
         segments, gear = self.scene.cable.segments, self.scene.winch.gear_segments
-        for name in ("diameter", "mass_per_length", "EA", "EI", "damping"):
-            if getattr(segments[segment], name) != getattr(segments[gear], name):
-                raise SolverError(f"winch.payout = {float(self._output_array()[_PAYOUT]):.6g} m at t = {self.time:.6g} s "
-                                  f"hauls cable.segments[{segment}] onto the drum, but its {name} = "
-                                  f"{getattr(segments[segment], name)!r} differs from the gear's "
-                                  f"{getattr(segments[gear], name)!r}: it cannot pass over drum and sheave on "
-                                  "their mesh; limit the winch's set-point")
+        name = segments[segment].cable_difference(segments[gear])
+        if name is not None:
+            raise SolverError(f"winch.payout = {float(self._output_array()[_PAYOUT]):.6g} m at t = {self.time:.6g} s "
+                              f"hauls cable.segments[{segment}] onto the drum, but its {name} = "
+                              f"{getattr(segments[segment], name)!r} differs from the gear's "
+                              f"{getattr(segments[gear], name)!r}: it cannot pass over drum and sheave on "
+                              "their mesh; limit the winch's set-point")
 
     # --------------------------------------------------------------- outputs
     def reactions(self) -> np.ndarray:

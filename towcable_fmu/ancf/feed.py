@@ -123,6 +123,13 @@ def material_rows(h: np.ndarray, xi: float, length: float, grows: float, u: floa
         bp[i] = u / length * (-grows * npi + flow * npx + nlx)
 
 
+@njit(cache=True, inline="always")
+def fed_length(f, phi: float) -> float:
+    """The fed element's unstretched length [m] at winch rotation ``phi`` [rad] (``f``: the
+    feed term's data): L_ref + r (phi_ref - phi)."""
+    return f.ref[0] + f.radius * (f.ref[1] - phi)
+
+
 @njit(cache=True)
 def apply_feed(model, phi: np.ndarray) -> None:
     """Set the fed element's length [m], mass, bending and damping matrices and weight,
@@ -133,7 +140,7 @@ def apply_feed(model, phi: np.ndarray) -> None:
     if not f.enabled:
         return
     fed = f.element
-    length = f.ref[0] + f.radius * (f.ref[1] - phi[0])
+    length = fed_length(f, phi[0])
     u = -f.radius * phi[1]
     du = -f.radius * phi[2]
     model.el_len[fed] = length

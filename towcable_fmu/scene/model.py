@@ -54,6 +54,15 @@ class Segment:
                                        "wind on the span between the sheaves only)")
     name: str = spec("", doc="label used in plots and messages")
 
+    def cable_difference(self, other: "Segment") -> str | None:
+        """The first property of the cable itself (not of its loads) in which this segment
+        differs from ``other``: what cable paid out over a winch's gear must share with it
+        (None: the same cable)."""
+        for name in ("diameter", "mass_per_length", "EA", "EI", "damping"):
+            if getattr(self, name) != getattr(other, name):
+                return name
+        return None
+
 
 @dataclasses.dataclass(frozen=True)
 class End:
@@ -517,11 +526,11 @@ class Scene:
                                                           "fed)")
         fed = segments[gear]
         for i in range(gear):
-            for name in ("diameter", "mass_per_length", "EA", "EI", "damping"):
-                if getattr(segments[i], name) != getattr(fed, name):
-                    raise SceneError(f"cable.segments[{i}].{name}", getattr(segments[i], name),
-                                     f"{getattr(fed, name)!r}, the fed segment's (cable.segments[{gear}]): the paid-out "
-                                     "cable flows through the gear's segments")
+            name = segments[i].cable_difference(fed)
+            if name is not None:
+                raise SceneError(f"cable.segments[{i}].{name}", getattr(segments[i], name),
+                                 f"{getattr(fed, name)!r}, the fed segment's (cable.segments[{gear}]): the paid-out "
+                                 "cable flows through the gear's segments")
 
     def validate(self, key: str) -> None:
         """Cross-section checks."""
