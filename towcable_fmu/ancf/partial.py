@@ -39,6 +39,29 @@ def interpolate(x: np.ndarray, base: int, n0: float, n1: float, n2: float, n3: f
             n0 * x[base + 2] + n1 * x[base + 5] + n2 * x[base + 8] + n3 * x[base + 11])
 
 
+@njit(cache=True, inline="always")
+def add_point_block(ke: np.ndarray, wp: float, n: tuple, a: np.ndarray, b: np.ndarray, slope: bool) -> None:
+    """Add one quadrature point's tangent to the element block ``ke`` (12x12):
+    ``ke[3i+c, 3j+k] += wp N_i (N_j a[c, k] + N_j' b[c, k])``.
+
+    ``n`` is :func:`hermite`'s tuple at the point, ``wp`` its weight [m]; ``a`` (3, 3) is
+    the derivative of the point load with respect to the point's position (and velocity,
+    acceleration: scaled by the caller), ``b`` (3, 3) with respect to its slope, used only
+    with ``slope``. The 3x3 blocks are combined once per point, not once per node pair.
+    """
+    for i in range(4):
+        wi = wp * n[i]
+        for j in range(4):
+            nn = wi * n[j]
+            nd = wi * n[4 + j]
+            for c in range(3):
+                for k in range(3):
+                    if slope:
+                        ke[3 * i + c, 3 * j + k] += nn * a[c, k] + nd * b[c, k]
+                    else:
+                        ke[3 * i + c, 3 * j + k] += nn * a[c, k]
+
+
 @njit(cache=True)
 def active_quadrature(length: float, npts: int, g: np.ndarray, xi: np.ndarray, wt: np.ndarray,
                       cross: np.ndarray) -> int:

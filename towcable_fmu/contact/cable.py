@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..kernel_cache import njit
-from ..ancf.partial import active_quadrature, crossing_stiffness, hermite, interpolate
+from ..ancf.partial import active_quadrature, add_point_block, crossing_stiffness, hermite, interpolate
 from ..kinematics import rotation_derivatives
 from .surfaces import CYLINDER, ContactModel, face_force, face_tangent, groove_exit
 
@@ -249,6 +249,7 @@ def add_jacobian(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarray,
     fpt = np.zeros((m, 7))
     dg = np.zeros((m, 3))
     jac = np.empty((3, 6))
+    on_point = np.empty((3, 3))
     gradient = np.empty(3)
     pts = np.empty((m, 6))
     faces = np.empty(c.face_kind.shape[0], dtype=np.int64)
@@ -287,13 +288,10 @@ def add_jacobian(c: ContactModel, cable: Elements, q: np.ndarray, v: np.ndarray,
                     dg[p, k] = gradient[k]
                 if wp == 0.0:
                     continue
-                n = hermite(xi[p], length)
-                for i in range(4):
-                    for j in range(4):
-                        nn = wp * n[i] * n[j]
-                        for d in range(3):
-                            for k in range(3):
-                                ke[3 * i + d, 3 * j + k] -= nn * (cq * jac[d, k] + cv * jac[d, 3 + k])
+                for d in range(3):
+                    for k in range(3):
+                        on_point[d, k] = -(cq * jac[d, k] + cv * jac[d, 3 + k])
+                add_point_block(ke, wp, hermite(xi[p], length), on_point, on_point, False)
             if cq != 0.0:
                 crossing_stiffness(length, npts, cq, xi, g, dg, cross, fpt, count, ke)
 

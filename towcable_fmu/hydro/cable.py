@@ -40,7 +40,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..kernel_cache import njit
-from ..ancf.partial import active_quadrature, crossing_stiffness, hermite, interpolate
+from ..ancf.partial import active_quadrature, add_point_block, crossing_stiffness, hermite, interpolate
 from .loading import drag_coefficient, drag_coefficient_slope, loading_functions, loading_slopes
 from .water import CURRENT_LINEAR, WaterModel, mean_flow, turbulence
 
@@ -410,7 +410,8 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
     count = _quadrature(w, q, base, length, npts, xi, wt, g, cross)
     section = element_section(hy, e)
     rho_a_cm = w.density * section.area * section.cm
-    jac = np.empty((3, 7))  # columns: d/dv (3), d/dp (3), d/dz
+    on_point = np.empty((3, 3))  # the load's derivative with respect to the point (added mass, velocity, height)
+    on_slope = np.empty((3, 3))
     for p in range(count):
         wp = wt[p]
         if wp == 0.0:
@@ -420,21 +421,14 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
         slope = interpolate(q, base, n[4], n[5], n[6], n[7])
         f, dv, dp, dz = point_tangent(w, section, t, rz, slope, interpolate(v, base, n[0], n[1], n[2], n[3]))
         fpt[p, 0], fpt[p, 1], fpt[p, 2] = f
+        u = _direction(slope)
         for c in range(3):
             for k in range(3):
-                jac[c, k] = dv[3 * c + k]
-                jac[c, 3 + k] = dp[3 * c + k]
-            jac[c, 6] = dz[c]
-        u = _direction(slope)
-        for i in range(4):
-            for j in range(4):
-                nn = wp * n[i] * n[j]
-                nd = wp * n[i] * n[4 + j]
-                for c in range(3):
-                    for k in range(3):
-                        mass = rho_a_cm * ((1.0 if c == k else 0.0) - u[c] * u[k])
-                        ke[3 * i + c, 3 * j + k] += ca * nn * mass - cv * nn * jac[c, k] - cq * nd * jac[c, 3 + k]
-                    ke[3 * i + c, 3 * j + 2] -= cq * nn * jac[c, 6]
+                mass = rho_a_cm * ((1.0 if c == k else 0.0) - u[c] * u[k])
+                on_point[c, k] = ca * mass - cv * dv[3 * c + k]
+                on_slope[c, k] = -cq * dp[3 * c + k]
+            on_point[c, 2] -= cq * dz[c]
+        add_point_block(ke, wp, n, on_point, on_slope, True)
     if cq != 0.0:
         dg = np.zeros((npts, 3))
         dg[:, 2] = -1.0  # g = surface - z
