@@ -80,6 +80,10 @@ SCENES = {
                          "the turbulence", "rms"),
     "flume": Case("towbody.y", 10.0, "as flume_pinned, the line on the winch", "rms"),
     "full_scale": Case("tension.sheave", 60.0, "the sheave tension in the default sea: about ten wave periods"),
+    "full_scale_deploy": Case("tension.top", 80.0, "the spool tension: the 20 s hold and the first 55 m veered at "
+                              "1 m/s while towing (the fed element split every 3.75 m)"),
+    "full_scale_recovery": Case("tension.top", 100.0, "the spool tension: 29 m hauled in at 0.5 m/s in the default "
+                                "sea and the body lifted out through the crests"),
     "full_scale_pinned": Case("tension.top", 20.0, "the steady tow: no motion, the run stays at the statics"),
     "pulley_static": _PULLEY,
     "pulley_static_2": _PULLEY,
