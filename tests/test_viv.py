@@ -26,7 +26,17 @@ from towcable_fmu.viv.oscillator import advance_wake
 
 D, MU, EI, T = 0.020, 1.38, 0.73, 200.0
 SPAN = 2.0
-MID = 2 + 5 + 6  # mid-span node of viv_sheave: 2 + 5 elements before the span, 12 on it
+
+
+def _span_nodes() -> range:
+    """The span's nodes in viv_sheave (after the free end and the rope on sheave 1)."""
+    segments = load_scene("viv_sheave").cable.segments
+    first = segments[0].elements + segments[1].elements
+    return range(first, first + segments[2].elements + 1)
+
+
+SPAN_NODES = _span_nodes()
+MID = SPAN_NODES[len(SPAN_NODES) // 2]  # the mid-span node
 
 
 def omega_a24(span: float = SPAN, tension: float = T) -> float:
@@ -164,12 +174,12 @@ def test_span_natural_frequency():
     sim = Simulation.from_scene("viv_sheave", overrides)
     sim.initialize()
     x = sim.node_positions()
-    span = x[7:20]
+    span = x[SPAN_NODES.start:SPAN_NODES.stop]
     s = (span[:, 0] - span[0, 0]) / (span[-1, 0] - span[0, 0])
     q = sim.state.q.copy()
     v = np.zeros_like(q)
     v0 = 0.01  # [m/s]: amplitude v0 / omega = 0.5 mm
-    for k, node in enumerate(range(7, 20)):
+    for k, node in enumerate(SPAN_NODES):
         v[6 * node + 2] = v0 * math.sin(math.pi * s[k])
         v[6 * node + 5] = v0 * math.pi / SPAN * math.cos(math.pi * s[k])
     sim.set_coordinates(q, v)

@@ -81,10 +81,11 @@ def pluck(scene: str, span_nodes: range, span: float, tension: float) -> float:
 def main() -> None:
     rows = []
     for case, (scene, span, tension, n_span, table_omega, table_speed) in CASES.items():
-        nodes = range(7, 7 + n_span + 1)
-        mid = 7 + n_span // 2
-        omega_pluck = pluck(scene, nodes, span, tension)
         sim = Simulation.from_scene(scene)
+        first = sum(s.elements for s in sim.scene.cable.segments[:2])  # the span's first node (after the free end and sheave 1)
+        nodes = range(first, first + n_span + 1)
+        mid = first + n_span // 2
+        omega_pluck = pluck(scene, nodes, span, tension)
         sim.initialize()
         duration = 15.0 if span < 3.0 else 30.0  # the 5 m spans settle more slowly (xi omega smaller)
         z = record(sim, mid, duration)
