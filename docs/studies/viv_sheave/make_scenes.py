@@ -18,10 +18,10 @@ TABLE_A2 = {1: (19.9, 0.302), 2: (7.57, 0.121), 3: (12.0, 0.190), 4: (16.9, 0.26
 HANG = 0.5  # [m] free cable below each sheave
 #: time step [s] and its kinetic-energy error: the fastest step within 1 % RMS of a converged
 #: run where one is (benchmarks/results/defaults.md); the wake is coupled at the 0.01 s samples
-STEPS = {1: (0.002, "1.1 % RMS off a converged run, the mesh's error (0.95 % at 1 ms)"),
-         2: (0.01, "within 0.74 % RMS of a converged run, 3.2x faster than 2 ms"),
-         3: (0.005, "within 0.84 % RMS of a converged run, 2x faster than 2 ms"),
-         4: (0.002, "within 0.32 % RMS of a converged run (5 ms: 1.05 %)")}
+STEPS = {1: (0.002, "within 0.75 % RMS of a converged run"),
+         2: (0.01, "within 0.36 % RMS of a converged run, 3.2x faster than 2 ms"),
+         3: (0.005, "within 0.9 % RMS of a converged run, 2x faster than 2 ms"),
+         4: (0.002, "within 0.32 % RMS of a converged run (5 ms: 1.06 %)")}
 
 
 def omega_a24(span: float, tension: float) -> float:
@@ -56,9 +56,9 @@ oscillator per span node, eqs. A19-A20 with a1 = 0.3, a2 = 0.2, a3 = 12, St = 0.
 C_D0 = 0.2, C_L0 = 0.3 (A19 corrected, see towcable_fmu/viv/oscillator.py). Only the span
 (segment 3 of Fig. A2) carries wind loads; the other segments have fluid_loads = false.
 Mesh of the thesis (5 elements per contact segment, {n_span} on the span, 10 integration
-points) except at the free ends: 4 elements each instead of 2, which moved the span's
+points) except at the free ends: 6 elements each instead of 2, which moved the span's
 frequency enough to drift the vibration's phase (case 1's kinetic energy 2.6 % RMS off a
-converged mesh over 15 s; 0.4 % with 4).
+converged mesh over 15 s; 1.1 % with 4 elements, 0.75 % with 6).
 
 Frame: the thesis has y vertical and z along the flow with cross-flow = y; here z is up,
 the span runs along x and the wind along +y, so the cross-flow direction is z
@@ -98,7 +98,7 @@ viv_sheave_case3, viv_sheave_case4 (span 5 m, T = 200, 500, 1000 N).
 [[cable.segments]]
 name = "free end 1"
 length = {HANG}
-elements = 4
+elements = 6
 fluid_loads = false
 {seg}
 [[cable.segments]]
@@ -121,7 +121,7 @@ fluid_loads = false
 [[cable.segments]]
 name = "free end 2"
 length = {HANG}
-elements = 4
+elements = 6
 fluid_loads = false
 {seg}
 [cable.top]
