@@ -92,6 +92,13 @@ def run_python(code: str, env: dict | None = None) -> float:
     return time.perf_counter() - start
 
 
+def scene_time_step(scene: str) -> float:
+    """A built-in scene's own time step [s] (what its settings ship with)."""
+    from towcable_fmu.scene import load_scene
+
+    return float(load_scene(scene).solver.time_step)
+
+
 def timed_scene_runs(scene: str, overrides: dict, duration: float, interval: float,
                      repeats: int = 1) -> tuple[float, dict, dict]:
     """Median wall time [s] of ``repeats`` runs of a scene (statics excluded), the last

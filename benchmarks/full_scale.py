@@ -15,7 +15,8 @@ import time
 
 import numpy as np
 
-from common import RESULTS, machine_header, markdown_table, relative_rms_errors, timed_scene_runs
+from common import (RESULTS, machine_header, markdown_table, relative_rms_errors, scene_time_step,
+                    timed_scene_runs)
 
 DURATION = 120.0
 INTERVAL = 0.1
@@ -42,13 +43,6 @@ def simulate(time_step: float, refine: int = 1, repeats: int = 1):
 def errors(series: dict, ref: dict) -> dict[str, float]:
     """Relative RMS errors of the quantities users read."""
     return relative_rms_errors(series, ref, QUANTITIES)
-
-
-def default_step() -> float:
-    """The scene's own time step [s]."""
-    from towcable_fmu.scene import load_scene
-
-    return float(load_scene("full_scale").solver.time_step)
 
 
 def shipped_rows(repeats: int, quick: bool) -> list[tuple]:
@@ -94,7 +88,7 @@ def main(quick: bool = False) -> str:
     else:
         _, finer, _ = simulate(0.0005, refine=3)
         check = errors(ref, finer)
-    h_default = default_step()
+    h_default = scene_time_step("full_scale")
     grid = ([(0.1, 1), (0.08, 1), (0.05, 1), (0.02, 1), (0.01, 1), (0.005, 1), (0.05, 2)] if not quick
             else [(h_default, 1)])
     rows, points = [], []
