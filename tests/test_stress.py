@@ -97,14 +97,43 @@ def _veer_and_haul(speed: float, distance: float, ramp: float = 10.0) -> tuple[l
     return times, payout
 
 
+def _pd_overshoot(kp: float, kd: float, rate_step: float) -> float:
+    """Largest excursion [m] of an overdamped PD drive with rate feed-forward past a
+    set-point whose rate steps by ``rate_step`` [m/s] (to a hold): the error obeys
+    e'' + kd e' + kp e = 0 with e(0) = 0, e'(0) = rate_step, so
+    e(t) = rate_step (exp(-p2 t) - exp(-p1 t)) / (p1 - p2), largest at
+    t = ln(p1 / p2) / (p1 - p2), with p1, p2 the roots of p^2 - kd p + kp."""
+    root = math.sqrt(kd * kd - 4.0 * kp)
+    p1, p2 = 0.5 * (kd + root), 0.5 * (kd - root)
+    t = math.log(p1 / p2) / (p1 - p2)
+    return rate_step * (math.exp(-p2 * t) - math.exp(-p1 * t)) / (p1 - p2)
+
+
+def test_pd_overshoot_closed_form_matches_the_integrated_drive():
+    """_pd_overshoot against the PD law with rate feed-forward integrated through a rate
+    step (scipy, tight tolerances): full_scale_deploy's gains, a 0.1 m/s step to a hold."""
+    from scipy.integrate import solve_ivp
+
+    kp, kd, step = 250.0, 50.0, 0.1
+
+    def drive(t, y):  # set-point: a ramp at -step m/s to 0 at t = 0, then held at 0
+        sp, rate = (-step * t, -step) if t < 0.0 else (0.0, 0.0)
+        return [y[1], kp * (sp - y[0]) + kd * (rate - y[1])]
+
+    sol = solve_ivp(drive, (-1.0, 1.0), [step, -step], max_step=1e-3, rtol=1e-10, atol=1e-13)
+    assert -sol.y[0].min() == pytest.approx(_pd_overshoot(kp, kd, step), rel=1e-3)
+
+
 @pytest.mark.parametrize("sea", ["default", "still"])
 def test_deploy_300_m_out_and_back_at_2_m_per_s(sea):
     """full_scale_deploy veering 300 m and hauling it back at 2 m/s (0.2 m/s^2 ramps), in
-    the default sea and with a still ship: no NaN, the deployed length never below the
-    start's nor above it plus 300 m, the spans taut, contact only pushing and the cable in
-    the groove, and the energy (kinetic, strain, gravity, contact) over the last 30 s no
-    higher than over the first 20 s; with a still ship the sheave tension and the body's
-    depth come back to the statics."""
+    the default sea and with a still ship: no NaN; the deployed length never below the
+    start's, nor above it plus 300 m, by more than the PD drive overshoots the program's
+    last rate step (closed form: 1.67 mm for its 0.1 m/s; a converged run of the drive law
+    reaches 1.68 mm below the start, 25 % allowed for the step); the spans taut, contact
+    only pushing and the cable in the groove, and the energy (kinetic, strain, gravity,
+    contact) over the last 30 s no higher than over the first 20 s; with a still ship the
+    sheave tension and the body's depth come back to the statics."""
     times, payout = _veer_and_haul(2.0, 300.0)
     overrides = {"winch.program_times": times, "winch.program_payout": payout}
     if sea == "still":
@@ -114,7 +143,10 @@ def test_deploy_300_m_out_and_back_at_2_m_per_s(sea):
     res = sim.run(times[-1] + 60.0, 0.05)
     _all_finite(res)
     deployed = res["winch.deployed"]
-    assert deployed.min() >= deployed[0] - 1e-9 and deployed.max() == pytest.approx(deployed[0] + 300.0, abs=0.01)
+    winch = sim.scene.winch
+    overshoot = 1.25 * _pd_overshoot(winch.kp, winch.kd, abs(payout[-1] - payout[-2]) / (times[-1] - times[-2]))
+    assert deployed.min() >= deployed[0] - overshoot
+    assert deployed[0] + 300.0 - 0.01 <= deployed.max() <= deployed[0] + 300.0 + overshoot
     assert res["tension.top"].min() > 0.5 * out0["tension.top"] and res["tension.sheave"].min() > 0.5 * out0["tension.sheave"]
     assert res["contact.winch_force"].min() > 0.0 and res["contact.sheave_force"].min() > 0.0
     assert not np.any(res["contact.detached"])
