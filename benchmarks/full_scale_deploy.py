@@ -16,7 +16,7 @@ import time
 
 import numpy as np
 
-from common import RESULTS, machine_header, markdown_table, relative_rms_errors, timed_scene_runs
+from common import RESULTS, machine_header, markdown_table, relative_rms_errors, scene_time_step, timed_scene_runs
 
 SCENE = "full_scale_deploy"
 DURATION = 720.0
@@ -72,7 +72,9 @@ def main(quick: bool = False) -> str:
 
     _, ref, _ = simulate(0.005, refine=2)
     check = {k: float("nan") for k in QUANTITIES} if quick else errors(ref, simulate(0.0025, refine=2)[1])
-    grid = [(None, 1)] if quick else [(0.1, 1), (None, 1), (0.02, 1), (0.01, 1), (None, 2)]
+    h_scene = scene_time_step("full_scale_deploy")
+    grid = [(None, 1)] if quick else [(2 * h_scene, 1), (None, 1), (h_scene / 2, 1), (h_scene / 5, 1),
+                                      (h_scene / 10, 1), (None, 2)]
     rows, points = [], []
     for h, refine in grid:
         wall, series, stats = simulate(h, refine, repeats=1 if quick else 3)
