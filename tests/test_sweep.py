@@ -356,7 +356,8 @@ def _kill_soon(find_pids, when_busy, timeout: float = 120.0) -> list[int]:
 def test_local_worker_killed_mid_case_is_retried(tmp_path):
     import psutil
 
-    spec = load_spec(write_spec(tmp_path, duration=60.0))
+    # 300 s simulated: a case takes two seconds or more (full_scale runs about 110 x real time)
+    spec = load_spec(write_spec(tmp_path, duration=300.0))
     me = psutil.Process()
     reports = []
     thread = threading.Thread(target=lambda: reports.append(run_sweep(spec, workers=2, progress=False)))
@@ -368,8 +369,8 @@ def test_local_worker_killed_mid_case_is_retried(tmp_path):
 
     def busy(procs) -> list[int]:
         # both workers warm up alike, then take a case each: once the first (failing, a few
-        # milliseconds) case has its row, the other worker is in the middle of a case of 60 s
-        # simulated (a second or more); kill a worker that keeps using CPU half a second later
+        # milliseconds) case has its row, the other worker is in the middle of a case of 300 s
+        # simulated (two seconds or more); kill a worker that keeps using CPU half a second later
         # and has not finished a case meanwhile (on a loaded machine the other case can end
         # within that half second: its worker is idle then, not mid-case)
         if not table.exists() or len(table.read_text(encoding="utf-8").splitlines()) < 2:
@@ -392,7 +393,7 @@ def test_local_worker_killed_mid_case_is_retried(tmp_path):
 def test_dask_cluster_sweep_survives_a_killed_worker(tmp_path):
     distributed = pytest.importorskip("distributed")
 
-    spec = load_spec(write_spec(tmp_path, duration=60.0, seed="[1, 2]"))  # a case takes a second or more
+    spec = load_spec(write_spec(tmp_path, duration=300.0, seed="[1, 2]"))  # a case takes two seconds or more
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
                                   dashboard_address=None, scheduler_port=0) as cluster, \
             distributed.Client(cluster) as client:
