@@ -13,18 +13,13 @@ the step size the accuracy allows:
   set-up (20 segments, RK4, 0.2 ms) is run here, median of 3, for the ratio; the target
   is 2x MoorDyn.
 * the main job (``towcable cosim``, 0.01 s communication steps): the two other FMUs and
-  the master's glue per step (one co-simulation of 120 s, as ``cosim.py``) plus TowCable's
+  the master's glue per step (``cosim.py``'s runs, medians) plus TowCable's
   lowest cost per 0.01 s step of ``full_scale``; the target is 50x real time.
 
 Writes ``results/bounds.md``. Run: ``python benchmarks/bounds.py`` (about 2 min).
 """
 
 from __future__ import annotations
-
-import statistics
-import sys
-import time
-from pathlib import Path
 
 import numpy as np
 from numba import njit
@@ -33,15 +28,14 @@ from towcable_fmu.ancf.system import residual
 from towcable_fmu.numerics.banded import band_solve
 from towcable_fmu.output_kernel import output_values
 
-from common import RESULTS, machine_header, markdown_table
+import cosim
+import snapping
+from common import RESULTS, machine_header, markdown_table, per_call_us
 
-sys.path.insert(0, str(Path(__file__).parent / "peers"))
-
-SNAP_DURATION = 15.0
+SNAP_FREQUENCY = 1.27
 SNAP_STEP = 5e-4
+SNAP_POINTS = 2
 COSIM_STEP = 0.01
-COSIM_DURATION = 120.0
-REPEATS = 3
 #: states the per-call costs are measured on: every `spacing` seconds of a run, `count` of them
 SNAP_STATES = (0.5, 8)
 COSIM_STATES = (10.0, 6)
@@ -67,11 +61,10 @@ def _outputs(model, q, v, a, phi, t, ship, scene, r, n):
         output_values(model, q, v, a, phi, t, ship, scene, r)
 
 
-def _per_call_us(fn, *args) -> float:
-    fn(*args, 1)
-    start = time.perf_counter()
-    fn(*args, CALLS)
-    return 1e6 * (time.perf_counter() - start) / CALLS
+def _per_call_us(loop, *args) -> float:
+    """Cost of one call [us] of the kernel a compiled ``loop`` calls CALLS times
+    (:func:`common.per_call_us` over whole loops: no Python between the calls)."""
+    return per_call_us(lambda: loop(*args, CALLS)) / CALLS
 
 
 def step_costs(scene: str, overrides: dict, states: tuple[float, int]) -> dict[str, float]:
@@ -99,42 +92,11 @@ def step_costs(scene: str, overrides: dict, states: tuple[float, int]) -> dict[s
             "factorisations": stats["solver.jacobian_factorisations"] / stats["solver.steps"]}
 
 
-def snapping_speed(elements: int) -> float:
-    """Median x real time of our run at SNAP_STEP (outputs every 0.5 ms, statics excluded)."""
-    from towcable_fmu.simulation import Simulation
-
-    walls = []
-    for _ in range(REPEATS):
-        sim = Simulation.from_scene("snapping_cable", {"cable.segments[0].elements": elements,
-                                                       "solver.time_step": SNAP_STEP})
-        sim.initialize()
-        start = time.perf_counter()
-        sim.run(SNAP_DURATION, interval=5e-4)
-        walls.append(time.perf_counter() - start)
-    return SNAP_DURATION / statistics.median(walls)
-
-
-def moordyn_speed() -> float | None:
-    """MoorDyn's matched set-up (20 segments, RK4, 0.2 ms), x real time, median of REPEATS; None if absent."""
-    import importlib.util
-
-    if importlib.util.find_spec("moordyn") is None:
-        return None
-    from moordyn_snapping import run
-
-    walls = [run(1.27, SNAP_DURATION, 20, 2e-4)["wall_time_s"] for _ in range(REPEATS)]
-    return SNAP_DURATION / statistics.median(walls)
-
-
 def cosim_others() -> dict[str, float]:
     """Per communication step [us]: ShipMotion, HeaveCompensation and the glue outside the
-    three models, from one co-simulation (as cosim.py); and its x real time."""
-    from towcable_fmu.cosim import CosimConfig, run_cosim
-
-    config = CosimConfig(duration=COSIM_DURATION, step=COSIM_STEP, compensation="simplified_sheave",
-                         fmu_dir=str(Path(__file__).parent / "fmus"))
-    run_cosim(config, echo=False)  # builds the FMUs if needed, loads the kernels
-    t = run_cosim(config, echo=False).timing
+    three models, and TowCable; and the x real time (``cosim.cosim``: medians of its runs)."""
+    cosim.cosim(COSIM_STEP)  # builds the FMUs if needed, loads the kernels
+    t = cosim.cosim(COSIM_STEP)
     steps = t["steps"]
     return {"ShipMotion": 1e6 * t["model.ShipMotion"] / steps,
             "HeaveCompensation": 1e6 * t["model.HeaveCompensation"] / steps,
@@ -143,14 +105,18 @@ def cosim_others() -> dict[str, float]:
 
 
 def main() -> None:
-    moordyn = moordyn_speed()
+    moordyn = None
+    if snapping.peers_available()["MoorDyn"]:
+        matched = snapping.peer("MoorDyn", SNAP_FREQUENCY, *snapping.MATCHED, repeats=snapping.REPEATS)
+        moordyn = snapping.DURATION / matched["wall_time_s"]
     snap_rows = []
     for elements in (20, 12):
         c = step_costs("snapping_cable", {"cable.segments[0].elements": elements, "solver.time_step": SNAP_STEP},
                        SNAP_STATES)
         floor = c["residual"] + c["solve"] + c["outputs"]  # one step, one sample per step
         bound = SNAP_STEP / (1e-6 * floor)
-        speed = snapping_speed(elements)
+        ours = snapping.ours(SNAP_FREQUENCY, elements, SNAP_STEP, SNAP_POINTS, repeats=snapping.REPEATS)
+        speed = snapping.DURATION / ours["wall_time_s"]
         ratio = (lambda x: f"{x / moordyn:.2f}") if moordyn else (lambda x: "-")
         unrecorded = SNAP_STEP / (1e-6 * (c["residual"] + c["solve"]))  # the same with outputs free
         snap_rows.append([elements, f"{c['residual']:.1f}", f"{c['solve']:.1f}", f"{c['outputs']:.1f}",
@@ -172,15 +138,18 @@ def main() -> None:
     ]
     text = ["# Upper bounds: how fast one Newton iteration per step would go\n", machine_header(), "\n",
             __doc__.split("\n\n")[1].replace("\n", " ") + "\n",
-            f"\n## snapping_cable, 1.27 Hz, h = {SNAP_STEP * 1e3:g} ms, {SNAP_DURATION:g} s, outputs every 0.5 ms\n\n",
+            f"\n## snapping_cable, {SNAP_FREQUENCY:g} Hz, h = {SNAP_STEP * 1e3:g} ms, {snapping.DURATION:g} s, outputs "
+            "every 0.5 ms\n\n",
             f"Per-call costs: medians over {SNAP_STATES[1]} states {SNAP_STATES[0]:g} s apart. "
-            f"MoorDyn (20 segments, RK4, 0.2 ms, median of {REPEATS}): "
+            f"MoorDyn ({snapping.MATCHED[0]} segments, RK4, {snapping.MATCHED[1] * 1e3:g} ms, median of "
+            f"{snapping.REPEATS}): "
             + (f"{moordyn:.1f} x real time.\n\n" if moordyn else "not installed.\n\n"),
             markdown_table(["elements", "residual [us]", "back-solve [us]", "outputs [us]", "floor per step [us]",
                             "bound [x real time]", "bound / MoorDyn",
                             "bound, outputs free / MoorDyn", "as run [x real time]", "as run / MoorDyn",
                             "iterations per step", "factorisations per step"], snap_rows),
-            f"\n## Main job: `towcable cosim`, {COSIM_STEP:g} s communication step, {COSIM_DURATION:g} s\n\n",
+            f"\n## Main job: `towcable cosim`, {COSIM_STEP:g} s communication step, {cosim.DURATION:g} s (medians of "
+            f"{cosim.REPEATS} runs)\n\n",
             f"TowCable's per-call costs on full_scale at h = {COSIM_STEP:g} s: medians over {COSIM_STATES[1]} states "
             f"{COSIM_STATES[0]:g} s apart.\n\n",
             markdown_table(["per communication step", "cost [us]", "x real time"], cosim_rows)]

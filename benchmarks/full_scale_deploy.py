@@ -72,7 +72,7 @@ def main(quick: bool = False) -> str:
 
     _, ref, _ = simulate(0.005, refine=2)
     check = {k: float("nan") for k in QUANTITIES} if quick else errors(ref, simulate(0.0025, refine=2)[1])
-    h_scene = scene_time_step("full_scale_deploy")
+    h_scene = scene_time_step(SCENE)
     grid = [(None, 1)] if quick else [(2 * h_scene, 1), (None, 1), (h_scene / 2, 1), (h_scene / 5, 1),
                                       (h_scene / 10, 1), (None, 2)]
     rows, points = [], []
