@@ -71,13 +71,14 @@ class FmuCheckError(RuntimeError):
 
 
 def source_hash(standalone: bool = False) -> str:
-    """Hash of everything an FMU is made of: our packages, the loader source, pythonfmu's
+    """Hash of everything an FMU is made of: our packages, the loader sources, pythonfmu's
     version, the Python version and the kind of build."""
     import pythonfmu
 
     h = hashlib.sha256(f"{pythonfmu.__version__} {sys.version} {standalone}".encode())
     h.update(machine_cache.code_digest(code_bundle.package_files()).encode())
-    h.update(native.LOADER_SOURCE.read_bytes())
+    for path in sorted(native.LOADER_SOURCE.parent.iterdir()):
+        h.update(path.read_bytes())
     return h.hexdigest()
 
 

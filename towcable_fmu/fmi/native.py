@@ -23,8 +23,11 @@ import sysconfig
 import warnings
 from pathlib import Path
 
-#: C source of the loader layer.
+#: C sources of the loader layer: the layer itself, the state machine it enforces, the
+#: variable table it reads from modelDescription.xml, the envelope of serialised states.
 LOADER_SOURCE = Path(__file__).with_name("csrc") / "fmu_loader.c"
+LOADER_SOURCES = tuple(LOADER_SOURCE.with_name(name) for name in
+                       ("fmu_loader.c", "state_machine.c", "model_table.c", "state_bytes.c"))
 #: Name of pythonfmu's library inside ``binaries/linux64/``.
 REAL_LIBRARY = "libpythonfmu-export.so"
 
@@ -62,10 +65,10 @@ def compile_loader(outdir: str | Path) -> Path:
     # no debugging information: it would carry the paths of this machine into the FMU
     cmd = [cc, "-shared", "-fPIC", "-O2", "-g0", "-std=gnu11", "-Wall", "-Wextra", "-Wno-format-truncation",
            "-fvisibility=hidden", "-Wl,-Bsymbolic", f"-I{sysconfig.get_paths()['include']}",
-           f"-I{fmi_headers()}", str(LOADER_SOURCE), "-o", str(target), "-ldl", "-lpthread"]
+           f"-I{fmi_headers()}", f"-I{LOADER_SOURCE.parent}", *map(str, LOADER_SOURCES), "-o", str(target), "-ldl", "-lpthread"]
     proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode != 0:
-        raise NativeBuildError(f"compiling {LOADER_SOURCE.name} failed:\n{' '.join(cmd)}\n{proc.stderr}")
+        raise NativeBuildError(f"compiling the loader layer failed:\n{' '.join(cmd)}\n{proc.stderr}")
     return target
 
 

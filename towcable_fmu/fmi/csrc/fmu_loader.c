@@ -32,15 +32,20 @@
 #include <dirent.h>
 #include <dlfcn.h>
 #include <limits.h>
+#include <math.h>
 #include <pthread.h>
 #include <stdarg.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
 #include "fmi2Functions.h"
+#include "model_table.h"
+#include "state_bytes.h"
+#include "state_machine.h"
 
 #define REAL_LIBRARY "libpythonfmu-export.so"
 #define RUNTIME_DIR "resources/python"
@@ -105,6 +110,8 @@ static const struct {
 
 static RealFunctions real;
 static void *real_handle = NULL;
+static ModelTable model;              /* this FMU's variables, read with pythonfmu's library */
+static char model_identifier[256];    /* the name of this library without ".so" */
 static pthread_mutex_t load_lock = PTHREAD_MUTEX_INITIALIZER;
 
 /* ------------------------------------------------------------------------------------ */
@@ -349,7 +356,8 @@ static int start_python(const char *root, char *err, size_t n)
 /* ------------------------------------------------------------------------------------ */
 /* loading pythonfmu's library                                                          */
 
-/* The folder of this library and the FMU's root folder (two levels up). */
+/* The folder of this library and the FMU's root folder (two levels up); the library's
+   name without ".so" is the modelIdentifier. */
 static int own_folders(char *dir, char *root, size_t n)
 {
     Dl_info info;
@@ -358,6 +366,9 @@ static int own_folders(char *dir, char *root, size_t n)
     char *slash = strrchr(dir, '/');
     if (!slash) return 0;
     *slash = '\0';
+    snprintf(model_identifier, sizeof model_identifier, "%s", slash + 1);
+    char *suffix = strstr(model_identifier, ".so");
+    if (suffix) *suffix = '\0';
     snprintf(root, n, "%s/../..", dir);
     return 1;
 }
@@ -374,6 +385,9 @@ static void release_real(void)
     dlclose(real_handle);
     real_handle = NULL;
     memset(&real, 0, sizeof real);
+    free(model.variables);
+    free(model.index);
+    memset(&model, 0, sizeof model);
 }
 
 static int load_real(char *err, size_t n)
@@ -383,6 +397,7 @@ static int load_real(char *err, size_t n)
         snprintf(err, n, "cannot find the folder of the FMU's binary");
         return 0;
     }
+    if (!model_table_read(root, &model, err, n)) return 0;
     if (!python_running() && !start_python(root, err, n)) return 0;
     snprintf(path, sizeof path, "%s/%s", dir, REAL_LIBRARY);
     void *handle = dlopen(path, RTLD_NOW | RTLD_LOCAL);
@@ -405,18 +420,78 @@ static int load_real(char *err, size_t n)
     return 1;
 }
 
-/* ------------------------------------------------------------------------------------ */
-/* instances: the host's logger behind ours, the worst status of a call                 */
 
-typedef struct {
+/* ------------------------------------------------------------------------------------ */
+/* instances and FMU states: the host's logger behind ours, the worst status of a call, */
+/* the phase of the state machine; registries of the live ones                          */
+
+typedef struct Instance {
+    struct Instance *next;           /* the live instances of this FMU */
     fmi2Component real;              /* pythonfmu's component */
+    char *name;
     fmi2CallbackFunctions host;      /* the host's callbacks */
     fmi2CallbackFunctions relay;     /* what pythonfmu gets: our logger, this instance as environment */
     int logging_on;                  /* what the host asked for */
     char **categories;               /* the host's categories; none: all */
     size_t ncategories;
     fmi2Status worst;                /* most severe status logged during the current call */
+    Phase phase;                     /* the state machine's state (state_machine.h) */
 } Instance;
+
+/* An FMU state given to the host: pythonfmu's (a Python object) and the phase it was
+   taken in; usable by every instance of this FMU until freed or its owner is freed. */
+typedef struct State {
+    struct State *next;              /* the live states of this FMU */
+    Instance *owner;                 /* the instance that made it (frees it at the latest) */
+    Phase phase;
+    fmi2FMUstate real;
+    unsigned char *bytes;            /* its serialisation (state_bytes.h), made at first need */
+    size_t size;
+} State;
+
+static pthread_mutex_t live_lock = PTHREAD_MUTEX_INITIALIZER;
+static Instance *live_instances = NULL;
+static State *live_states = NULL;
+
+/* Whether c is a live instance of this FMU (pointers from the host are compared, never
+   followed, before they are found here). */
+static int is_live(const void *c)
+{
+    pthread_mutex_lock(&live_lock);
+    const Instance *i = live_instances;
+    while (i && (const void *)i != c) i = i->next;
+    pthread_mutex_unlock(&live_lock);
+    return i != NULL;
+}
+
+static State *find_state(const void *s)
+{
+    pthread_mutex_lock(&live_lock);
+    State *st = live_states;
+    while (st && (const void *)st != s) st = st->next;
+    pthread_mutex_unlock(&live_lock);
+    return st;
+}
+
+/* Take st (or, with st NULL, every state of owner) out of the registry; the states taken
+   out, linked. */
+static State *unlink_states(const State *st, const Instance *owner)
+{
+    State *taken = NULL;
+    pthread_mutex_lock(&live_lock);
+    for (State **p = &live_states; *p;) {
+        State *cur = *p;
+        if (cur == st || (!st && cur->owner == owner)) {
+            *p = cur->next;
+            cur->next = taken;
+            taken = cur;
+        } else {
+            p = &cur->next;
+        }
+    }
+    pthread_mutex_unlock(&live_lock);
+    return taken;
+}
 
 /* Pass text to a logger as the standard wants it: a printf format, '%' doubled. */
 static void send_text(const fmi2CallbackFunctions *to, fmi2String instance, fmi2Status status,
@@ -462,11 +537,75 @@ static void clear_categories(Instance *inst)
     inst->ncategories = 0;
 }
 
-/* The status of a call: pythonfmu's, or a more severe one logged during it. */
-static fmi2Status outcome(const Instance *inst, fmi2Status status)
+/* Refuse a call: fmi2Error with a message naming the call, the reason and the state. */
+static fmi2Status refuse(Instance *inst, const char *call, const char *format, ...)
 {
-    if (status == fmi2Pending || status >= inst->worst) return status;
-    return inst->worst;
+    char text[MESSAGE_SIZE];
+    int k = snprintf(text, sizeof text, "%s: %s: ", inst->name, call);
+    va_list args;
+    va_start(args, format);
+    if (k > 0 && (size_t)k < sizeof text) k += vsnprintf(text + k, sizeof text - (size_t)k, format, args);
+    va_end(args);
+    if (k > 0 && (size_t)k < sizeof text)
+        snprintf(text + k, sizeof text - (size_t)k, " (state: %s)", phase_name(inst->phase));
+    send_text(&inst->host, inst->name, fmi2Error, "logStatusError", text);
+    return fmi2Error;
+}
+
+/* Whether the call may go on: c is a live instance and the state machine allows it;
+   else *status is the call's fmi2Error. Clears the call's worst logged status. */
+static int admit(Instance *inst, Call call, const char *name, fmi2Status *status)
+{
+    *status = fmi2Error;
+    if (!is_live(inst)) {
+        fprintf(stderr, "%s: %s: the component %p is not a live instance of this FMU (NULL, freed or foreign); "
+                "the call is refused with fmi2Error\n", model_identifier, name, (void *)inst);
+        return 0;
+    }
+    if (!call_allowed(call, inst->phase)) {
+        refuse(inst, name, "the call is not allowed in this state");
+        return 0;
+    }
+    inst->worst = fmi2OK;
+    return 1;
+}
+
+/* The status of a forwarded call: pythonfmu's, or a more severe one logged during it;
+   the phase moves as the state machine says. */
+static fmi2Status finish(Instance *inst, Call call, fmi2Status status)
+{
+    if (status != fmi2Pending && status < inst->worst) status = inst->worst;
+    inst->phase = phase_after(call, inst->phase, status);
+    return status;
+}
+
+#define ADMIT(call, name)                                               \
+    Instance *inst = (Instance *)c;                                     \
+    fmi2Status refused;                                                 \
+    if (!admit(inst, call, name, &refused)) return refused
+
+/* The variables of a get or set call exist with this type and, for a set, may be set in
+   the instance's phase; a set Real parameter is finite. */
+static fmi2Status check_variables(Instance *inst, const char *call, VariableType type,
+                                  const fmi2ValueReference vr[], size_t n, const void *values, int setting)
+{
+    if (n > 0 && (!vr || !values)) return refuse(inst, call, "NULL value reference or value array for %zu values", n);
+    for (size_t i = 0; i < n; i++) {
+        const Variable *v = model_table_find(&model, type, vr[i]);
+        char why[512];
+        if (!v)
+            return refuse(inst, call, "value reference %u is not a %s variable of %s", (unsigned)vr[i],
+                          type_name(type), model_identifier);
+        if (setting && !set_allowed(v, inst->phase, why, sizeof why))
+            return refuse(inst, call, "variable '%s' (value reference %u): %s", v->name, (unsigned)vr[i], why);
+        if (setting && type == TYPE_REAL && strcmp(v->causality, "parameter") == 0
+            && !isfinite(((const fmi2Real *)values)[i]))
+            return refuse(inst, call, "parameter '%s' = %g is not a finite number; the value is not set", v->name,
+                          ((const fmi2Real *)values)[i]);
+        if (setting && type == TYPE_STRING && !((const fmi2String *)values)[i])
+            return refuse(inst, call, "variable '%s': NULL string", v->name);
+    }
+    return fmi2OK;
 }
 
 /* ------------------------------------------------------------------------------------ */
@@ -476,6 +615,20 @@ const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
 
 const char *fmi2GetVersion(void) { return fmi2Version; }
 
+/* Why the arguments of fmi2Instantiate cannot be used (NULL if they can). */
+static const char *bad_instantiation(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
+                                     fmi2String fmuResourceLocation, char *why, size_t n)
+{
+    if (!instanceName || !fmuResourceLocation) return "instanceName and fmuResourceLocation must not be NULL";
+    if (fmuType != fmi2CoSimulation) return "this FMU is for Co-Simulation only (fmuType fmi2CoSimulation)";
+    if (!fmuGUID || strcmp(fmuGUID, model.guid) != 0) {
+        snprintf(why, n, "the GUID %.100s is not this FMU's (%s): the host read another modelDescription.xml",
+                 fmuGUID ? fmuGUID : "(NULL)", model.guid);
+        return why;
+    }
+    return NULL;
+}
+
 fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
                               fmi2String fmuResourceLocation, const fmi2CallbackFunctions *functions,
                               fmi2Boolean visible, fmi2Boolean loggingOn)
@@ -484,13 +637,14 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     pthread_mutex_lock(&load_lock);
     int ok = real_handle != NULL || load_real(err, sizeof err);
     pthread_mutex_unlock(&load_lock);
-    if (!ok) {
-        send_text(functions, instanceName, fmi2Error, "logStatusError", err);
-        return NULL;
-    }
-    Instance *inst = calloc(1, sizeof *inst);
-    if (!inst) {
-        send_text(functions, instanceName, fmi2Error, "logStatusError", "out of memory");
+    const char *bad = ok ? bad_instantiation(instanceName, fmuType, fmuGUID, fmuResourceLocation, err, sizeof err)
+                         : err;
+    Instance *inst = bad ? NULL : calloc(1, sizeof *inst);
+    if (inst) inst->name = strdup(instanceName);
+    if (!bad && (!inst || !inst->name)) bad = "out of memory";
+    if (bad) {
+        send_text(functions, instanceName, fmi2Error, "logStatusError", bad);
+        if (inst) free(inst);
         return NULL;
     }
     if (functions) inst->host = *functions;
@@ -498,31 +652,63 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     inst->relay.logger = relay_logger;
     inst->relay.componentEnvironment = inst;
     inst->logging_on = loggingOn;
+    inst->phase = PHASE_INSTANTIATED;
     inst->real = real.Instantiate(instanceName, fmuType, fmuGUID, fmuResourceLocation, &inst->relay, visible,
                                   fmi2True);
     if (!inst->real) {
         if (inst->worst < fmi2Error)
             send_text(functions, instanceName, fmi2Error, "logStatusError",
                       "pythonfmu could not instantiate the model (no message)");
+        free(inst->name);
         free(inst);
         return NULL;
     }
+    pthread_mutex_lock(&live_lock);
+    inst->next = live_instances;
+    live_instances = inst;
+    pthread_mutex_unlock(&live_lock);
     return inst;
 }
 
+static void free_state(Instance *by, State *st)
+{
+    if (st->real) real.FreeFMUstate(by->real, &st->real);
+    free(st->bytes);
+    free(st);
+}
+
+/* After fmi2Fatal pythonfmu has released its Python objects but keeps pointers to them
+   (PySlaveInstance::handle_py_exception): freeing its component would release them again.
+   A broken instance's component is therefore left allocated (a few hundred bytes). */
 void fmi2FreeInstance(fmi2Component c)
 {
     Instance *inst = (Instance *)c;
-    if (!inst) return;
-    real.FreeInstance(inst->real);
+    pthread_mutex_lock(&live_lock);
+    Instance **p = &live_instances;
+    while (*p && *p != inst) p = &(*p)->next;
+    int live = *p != NULL;
+    if (live) *p = inst->next;
+    pthread_mutex_unlock(&live_lock);
+    if (!live) {
+        if (inst)
+            fprintf(stderr, "%s: fmi2FreeInstance: the component %p is not a live instance of this FMU (freed "
+                    "twice or foreign); ignored\n", model_identifier, (void *)inst);
+        return;
+    }
+    for (State *st = unlink_states(NULL, inst), *next; st; st = next) {
+        next = st->next;
+        free_state(inst, st);
+    }
+    if (inst->phase != PHASE_BROKEN) real.FreeInstance(inst->real);
     clear_categories(inst);
+    free(inst->name);
     free(inst);
 }
 
 fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n, const fmi2String cat[])
 {
-    Instance *inst = (Instance *)c;
-    if (!inst) return fmi2Error;
+    ADMIT(CALL_SET_DEBUG_LOGGING, "fmi2SetDebugLogging");
+    if (on && n > 0 && !cat) return refuse(inst, "fmi2SetDebugLogging", "NULL categories array for %zu categories", n);
     clear_categories(inst);
     inst->logging_on = on;
     if (on && n > 0) {
@@ -535,79 +721,250 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n, const 
     return fmi2OK;
 }
 
-/* Forward to pythonfmu with its component; the status as outcome() says. */
-#define FORWARD(name, ...)                                              \
+/* Admit the call, forward it to pythonfmu with its component, finish it. */
+#define FORWARD(call, name, ...)                                        \
     do {                                                                \
-        Instance *inst = (Instance *)c;                                 \
-        if (!inst) return fmi2Error;                                    \
-        inst->worst = fmi2OK;                                           \
-        return outcome(inst, real.name(inst->real, __VA_ARGS__));       \
-    } while (0)
-#define FORWARD0(name)                                                  \
-    do {                                                                \
-        Instance *inst = (Instance *)c;                                 \
-        if (!inst) return fmi2Error;                                    \
-        inst->worst = fmi2OK;                                           \
-        return outcome(inst, real.name(inst->real));                    \
+        ADMIT(CALL_##call, "fmi2" #name);                               \
+        return finish(inst, CALL_##call, real.name(inst->real, ##__VA_ARGS__)); \
     } while (0)
 
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tolDefined, fmi2Real tol, fmi2Real start,
                                fmi2Boolean stopDefined, fmi2Real stop)
-{ FORWARD(SetupExperiment, tolDefined, tol, start, stopDefined, stop); }
+{ FORWARD(SETUP_EXPERIMENT, SetupExperiment, tolDefined, tol, start, stopDefined, stop); }
 
-fmi2Status fmi2EnterInitializationMode(fmi2Component c) { FORWARD0(EnterInitializationMode); }
-fmi2Status fmi2ExitInitializationMode(fmi2Component c) { FORWARD0(ExitInitializationMode); }
-fmi2Status fmi2Terminate(fmi2Component c) { FORWARD0(Terminate); }
-fmi2Status fmi2Reset(fmi2Component c) { FORWARD0(Reset); }
+fmi2Status fmi2EnterInitializationMode(fmi2Component c) { FORWARD(ENTER_INITIALIZATION, EnterInitializationMode); }
+fmi2Status fmi2ExitInitializationMode(fmi2Component c) { FORWARD(EXIT_INITIALIZATION, ExitInitializationMode); }
+fmi2Status fmi2Terminate(fmi2Component c) { FORWARD(TERMINATE, Terminate); }
+fmi2Status fmi2Reset(fmi2Component c) { FORWARD(RESET, Reset); }
+fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean noSetPrior)
+{ FORWARD(DO_STEP, DoStep, t, h, noSetPrior); }
+
+/* A get or set call: admitted, its variables checked, forwarded. */
+#define ACCESS(call, name, type, setting)                                                       \
+    do {                                                                                        \
+        ADMIT(call, "fmi2" #name);                                                              \
+        fmi2Status checked = check_variables(inst, "fmi2" #name, type, vr, n, v, setting);      \
+        if (checked != fmi2OK || n == 0) return checked;                                        \
+        return finish(inst, call, real.name(inst->real, vr, n, v));                             \
+    } while (0)
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Real v[])
-{ FORWARD(GetReal, vr, n, v); }
+{ ACCESS(CALL_GET, GetReal, TYPE_REAL, 0); }
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Integer v[])
-{ FORWARD(GetInteger, vr, n, v); }
+{ ACCESS(CALL_GET, GetInteger, TYPE_INTEGER, 0); }
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Boolean v[])
-{ FORWARD(GetBoolean, vr, n, v); }
+{ ACCESS(CALL_GET, GetBoolean, TYPE_BOOLEAN, 0); }
 fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2String v[])
-{ FORWARD(GetString, vr, n, v); }
+{ ACCESS(CALL_GET, GetString, TYPE_STRING, 0); }
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Real v[])
-{ FORWARD(SetReal, vr, n, v); }
+{ ACCESS(CALL_SET, SetReal, TYPE_REAL, 1); }
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Integer v[])
-{ FORWARD(SetInteger, vr, n, v); }
+{ ACCESS(CALL_SET, SetInteger, TYPE_INTEGER, 1); }
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Boolean v[])
-{ FORWARD(SetBoolean, vr, n, v); }
+{ ACCESS(CALL_SET, SetBoolean, TYPE_BOOLEAN, 1); }
 fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2String v[])
-{ FORWARD(SetString, vr, n, v); }
+{ ACCESS(CALL_SET, SetString, TYPE_STRING, 1); }
 
-fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s) { FORWARD(GetFMUstate, s); }
-fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s) { FORWARD(SetFMUstate, s); }
-fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s) { FORWARD(FreeFMUstate, s); }
+/* ------------------------------------------------------------------------------------ */
+/* FMU states                                                                           */
+
+#define NOT_A_STATE "is not a live FMU state of %s (freed, of a freed instance, of another FMU, or never made)"
+
+fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s)
+{
+    ADMIT(CALL_GET_STATE, "fmi2GetFMUstate");
+    if (!s) return refuse(inst, "fmi2GetFMUstate", "NULL pointer for the state");
+    State *old = NULL;
+    if (*s && !(old = find_state(*s)))
+        return refuse(inst, "fmi2GetFMUstate", "the state %p to update " NOT_A_STATE " (pass NULL for a new one)",
+                      *s, model_identifier);
+    fmi2FMUstate taken = NULL;
+    fmi2Status status = finish(inst, CALL_GET_STATE, real.GetFMUstate(inst->real, &taken));
+    if (status >= fmi2Error || !taken) {
+        if (taken && status != fmi2Fatal) real.FreeFMUstate(inst->real, &taken);
+        return status >= fmi2Error ? status : refuse(inst, "fmi2GetFMUstate", "pythonfmu returned no state");
+    }
+    State *st = old ? old : calloc(1, sizeof *st);
+    if (!st) {
+        real.FreeFMUstate(inst->real, &taken);
+        return refuse(inst, "fmi2GetFMUstate", "out of memory");
+    }
+    if (old) { /* updated in place: its previous content released */
+        real.FreeFMUstate(inst->real, &old->real);
+        free(old->bytes);
+        old->bytes = NULL;
+    }
+    st->owner = inst;
+    st->phase = inst->phase;
+    st->real = taken;
+    if (!old) {
+        pthread_mutex_lock(&live_lock);
+        st->next = live_states;
+        live_states = st;
+        pthread_mutex_unlock(&live_lock);
+    }
+    *s = st;
+    return status;
+}
+
+fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s)
+{
+    ADMIT(CALL_SET_STATE, "fmi2SetFMUstate");
+    State *st = find_state(s);
+    if (!st) return refuse(inst, "fmi2SetFMUstate", "the state %p " NOT_A_STATE, s, model_identifier);
+    fmi2Status status = finish(inst, CALL_SET_STATE, real.SetFMUstate(inst->real, st->real));
+    if (status < fmi2Error) inst->phase = st->phase; /* a refused state left the instance as it was */
+    return status;
+}
+
+fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s)
+{
+    ADMIT(CALL_FREE_STATE, "fmi2FreeFMUstate");
+    if (!s || !*s) return fmi2OK;
+    State *st = find_state(*s);
+    if (!st) return refuse(inst, "fmi2FreeFMUstate", "the state %p " NOT_A_STATE, *s, model_identifier);
+    unlink_states(st, NULL);
+    free_state(inst, st);
+    *s = NULL;
+    return fmi2OK;
+}
+
+/* The serialisation of st, made once: pythonfmu's bytes in our envelope. */
+static fmi2Status serialise(Instance *inst, const char *call, State *st)
+{
+    if (st->bytes) return fmi2OK;
+    size_t payload_size = 0;
+    fmi2Status status = finish(inst, CALL_SERIALIZE, real.SerializedFMUstateSize(inst->real, st->real, &payload_size));
+    if (status >= fmi2Error) return status;
+    unsigned char *payload = malloc(payload_size ? payload_size : 1);
+    size_t size = state_bytes_size(model_identifier, model.guid, payload_size);
+    unsigned char *bytes = payload ? malloc(size) : NULL;
+    if (!bytes) {
+        free(payload);
+        return refuse(inst, call, "out of memory for a state of %zu bytes", size);
+    }
+    status = finish(inst, CALL_SERIALIZE, real.SerializeFMUstate(inst->real, st->real, (fmi2Byte *)payload,
+                                                                 payload_size));
+    if (status < fmi2Error) {
+        state_bytes_write(bytes, model_identifier, model.guid, (uint32_t)st->phase, payload, payload_size);
+        st->bytes = bytes;
+        st->size = size;
+    } else {
+        free(bytes);
+    }
+    free(payload);
+    return status;
+}
+
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate s, size_t *size)
-{ FORWARD(SerializedFMUstateSize, s, size); }
+{
+    ADMIT(CALL_SERIALIZE, "fmi2SerializedFMUstateSize");
+    State *st = find_state(s);
+    if (!st) return refuse(inst, "fmi2SerializedFMUstateSize", "the state %p " NOT_A_STATE, s, model_identifier);
+    if (!size) return refuse(inst, "fmi2SerializedFMUstateSize", "NULL pointer for the size");
+    fmi2Status status = serialise(inst, "fmi2SerializedFMUstateSize", st);
+    if (status < fmi2Error) *size = st->size;
+    return status;
+}
+
 fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate s, fmi2Byte b[], size_t size)
-{ FORWARD(SerializeFMUstate, s, b, size); }
+{
+    ADMIT(CALL_SERIALIZE, "fmi2SerializeFMUstate");
+    State *st = find_state(s);
+    if (!st) return refuse(inst, "fmi2SerializeFMUstate", "the state %p " NOT_A_STATE, s, model_identifier);
+    fmi2Status status = serialise(inst, "fmi2SerializeFMUstate", st);
+    if (status >= fmi2Error) return status;
+    if (!b || size < st->size)
+        return refuse(inst, "fmi2SerializeFMUstate", "a buffer of %zu bytes%s for a state of %zu bytes (see "
+                      "fmi2SerializedFMUstateSize)", size, b ? "" : " (NULL)", st->size);
+    memcpy(b, st->bytes, st->size);
+    return status;
+}
+
 fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte b[], size_t size, fmi2FMUstate *s)
-{ FORWARD(DeSerializeFMUstate, b, size, s); }
+{
+    ADMIT(CALL_DESERIALIZE, "fmi2DeSerializeFMUstate");
+    if (!s || (!b && size > 0)) return refuse(inst, "fmi2DeSerializeFMUstate", "NULL bytes or state pointer");
+    char why[512];
+    uint32_t phase = 0;
+    const unsigned char *payload = NULL;
+    size_t payload_size = 0;
+    if (!b || !state_bytes_read((const unsigned char *)b, size, model_identifier, model.guid, &phase, &payload,
+                                &payload_size, why, sizeof why))
+        return refuse(inst, "fmi2DeSerializeFMUstate", "refused: %s", b ? why : "no bytes");
+    if (phase >= PHASE_BROKEN)
+        return refuse(inst, "fmi2DeSerializeFMUstate", "refused: the state's phase %u is not a state of the "
+                      "state machine", (unsigned)phase);
+    State *st = calloc(1, sizeof *st);
+    unsigned char *copy = st ? malloc(size) : NULL;
+    if (!copy) {
+        free(st);
+        return refuse(inst, "fmi2DeSerializeFMUstate", "out of memory");
+    }
+    fmi2Status status = finish(inst, CALL_DESERIALIZE, real.DeSerializeFMUstate(inst->real, (const fmi2Byte *)payload,
+                                                                                payload_size, &st->real));
+    if (status >= fmi2Error || !st->real) {
+        if (st->real && status != fmi2Fatal) real.FreeFMUstate(inst->real, &st->real);
+        free(copy);
+        free(st);
+        return status >= fmi2Error ? status : refuse(inst, "fmi2DeSerializeFMUstate", "pythonfmu returned no state");
+    }
+    memcpy(copy, b, size);
+    st->bytes = copy;
+    st->size = size;
+    st->owner = inst;
+    st->phase = (Phase)phase;
+    pthread_mutex_lock(&live_lock);
+    st->next = live_states;
+    live_states = st;
+    pthread_mutex_unlock(&live_lock);
+    *s = st;
+    return status;
+}
+
+/* ------------------------------------------------------------------------------------ */
+/* functions these FMUs do not provide (modelDescription: capability flags false)      */
+
+static fmi2Status unsupported(fmi2Component c, const char *name)
+{
+    ADMIT(CALL_UNPROVIDED, name);
+    return refuse(inst, name, "not provided by this FMU");
+}
 
 fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference u[], size_t nu,
                                         const fmi2ValueReference z[], size_t nz, const fmi2Real dv[],
                                         fmi2Real dz[])
-{ FORWARD(GetDirectionalDerivative, u, nu, z, nz, dv, dz); }
-
+{
+    (void)u, (void)nu, (void)z, (void)nz, (void)dv, (void)dz;
+    return unsupported(c, "fmi2GetDirectionalDerivative");
+}
 fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                                        const fmi2Integer order[], const fmi2Real v[])
-{ FORWARD(SetRealInputDerivatives, vr, n, order, v); }
+{
+    (void)vr, (void)n, (void)order, (void)v;
+    return unsupported(c, "fmi2SetRealInputDerivatives");
+}
 fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                                         const fmi2Integer order[], fmi2Real v[])
-{ FORWARD(GetRealOutputDerivatives, vr, n, order, v); }
+{
+    (void)vr, (void)n, (void)order, (void)v;
+    return unsupported(c, "fmi2GetRealOutputDerivatives");
+}
+fmi2Status fmi2CancelStep(fmi2Component c) { return unsupported(c, "fmi2CancelStep"); }
 
-fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean noSetPrior)
-{ FORWARD(DoStep, t, h, noSetPrior); }
-fmi2Status fmi2CancelStep(fmi2Component c) { FORWARD0(CancelStep); }
+/* status inquiries: pythonfmu answers fmi2LastSuccessfulTime and fmi2Terminated */
+#define STATUS(name, ...)                                               \
+    do {                                                                \
+        ADMIT(CALL_STATUS, "fmi2" #name);                               \
+        if (!v) return refuse(inst, "fmi2" #name, "NULL value pointer"); \
+        return finish(inst, CALL_STATUS, real.name(inst->real, k, v));  \
+    } while (0)
 
-fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind k, fmi2Status *v) { FORWARD(GetStatus, k, v); }
-fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind k, fmi2Real *v) { FORWARD(GetRealStatus, k, v); }
+fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind k, fmi2Status *v) { STATUS(GetStatus); }
+fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind k, fmi2Real *v) { STATUS(GetRealStatus); }
 fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind k, fmi2Integer *v)
-{ FORWARD(GetIntegerStatus, k, v); }
+{ STATUS(GetIntegerStatus); }
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind k, fmi2Boolean *v)
-{ FORWARD(GetBooleanStatus, k, v); }
+{ STATUS(GetBooleanStatus); }
 fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind k, fmi2String *v)
-{ FORWARD(GetStringStatus, k, v); }
+{ STATUS(GetStringStatus); }
