@@ -44,6 +44,20 @@ def fmu_paths(tmp_path_factory):
 
 
 @pytest.fixture(scope="session")
+def extracted(fmu_paths, tmp_path_factory):
+    """Each FMU unzipped into its own folder (name -> folder)."""
+    import zipfile
+
+    root = tmp_path_factory.mktemp("extracted")
+    out = {}
+    for name, path in fmu_paths.items():
+        out[name] = root / name
+        with zipfile.ZipFile(path) as z:
+            z.extractall(out[name])
+    return out
+
+
+@pytest.fixture(scope="session")
 def fresh_venv(tmp_path_factory):
     """Python of a new venv with fmpy and the FMUs' requirements file, and nothing of towcable;
     numba and llvmlite at this Python's versions (those the precompiled kernels need)."""
@@ -74,8 +88,9 @@ def host(tmp_path_factory):
     from towcable_fmu.fmi import native
 
     exe = tmp_path_factory.mktemp("c_host") / "fmu_host"
+    sources = sorted(str(p) for p in (Path(__file__).parent / "c_host").glob("*.c"))
     subprocess.run([native.c_compiler(), "-O1", "-g", "-Wall", "-Wextra", "-Werror", f"-I{native.fmi_headers()}",
-                    str(Path(__file__).parent / "c_host" / "fmu_host.c"), "-o", str(exe), "-ldl", "-lm"], check=True)
+                    *sources, "-o", str(exe), "-ldl", "-lm"], check=True)
     return exe
 
 

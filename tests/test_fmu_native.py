@@ -42,18 +42,6 @@ def crosscheck(fmu_paths, tmp_path_factory) -> dict[str, Path]:
     return xc.write_crosscheck(fmu_paths, tmp_path_factory.mktemp("crosscheck"))
 
 
-@pytest.fixture(scope="module")
-def extracted(fmu_paths, tmp_path_factory) -> dict[str, Path]:
-    """Each FMU unzipped into its own folder."""
-    root = tmp_path_factory.mktemp("extracted")
-    out = {}
-    for name, path in fmu_paths.items():
-        out[name] = root / name
-        with zipfile.ZipFile(path) as z:
-            z.extractall(out[name])
-    return out
-
-
 # ------------------------------------------------------------------------------- helpers
 def model_variables(fmu_dir: Path) -> tuple[str, dict[str, tuple[int, str]]]:
     """GUID and name -> (value reference, type) of an extracted FMU."""

@@ -11,8 +11,10 @@ import json
 import math
 
 import pytest
+from fmpy import read_model_description
 from fmpy.fmi1 import FMICallException
 
+from fmu_misuse import envelope
 from fmu_util import SMALL_SCENE, all_finite, open_fmu, outputs, set_inputs, ship_inputs
 
 from towcable_fmu import contract
@@ -195,7 +197,10 @@ def test_serialized_state_continues_identically_in_a_fresh_instance(fmu_paths):
     t1, _ = run_cable(fmu, 0.0, [0.01] * 5, motion)
     state = fmu.fmu.getFMUstate()
     data = fmu.fmu.serializeFMUstate(state)
-    assert json.loads(data.decode())["fmu"] == "TowCable"  # JSON: the solver state included
+    fields = envelope(bytes(data))  # FMU, build and checksum around the JSON of the solver state
+    assert fields["magic"] == b"TWCSTATE" and fields["crc_ok"]
+    assert fields["name"] == "TowCable" and fields["guid"] == read_model_description(fmu_paths["TowCable"]).guid
+    assert json.loads(fields["payload"].decode())["fmu"] == "TowCable"
     fmu.fmu.freeFMUstate(state)
     _, expected = run_cable(fmu, t1, [0.01] * 6, motion)
 

@@ -22,6 +22,10 @@
  * first instance's outputs; the largest difference of a later instance to them is
  * printed. Exit status: 0 all calls fmi2OK, 1 bad arguments, 2 fmi2Instantiate failed,
  * 3 another FMI call failed, 4 a later instance differs.
+ *
+ *     fmu_host --misuse SCRIPT FMU_DIR OTHER_FMU_DIR
+ *
+ * runs a misuse script instead (misuse.c, issue 37).
  */
 #include <dlfcn.h>
 #include <math.h>
@@ -31,6 +35,7 @@
 #include <string.h>
 
 #include "fmi2Functions.h"
+#include "misuse.h"
 
 #define LINE 4096
 #define MAX_VARS 64
@@ -238,6 +243,7 @@ static int write_csv(const char *path, const Plan *plan, const double *out, size
 int main(int argc, char **argv)
 {
     static Plan plan;
+    if (argc > 1 && strcmp(argv[1], "--misuse") == 0) return misuse_main(argc - 2, argv + 2);
     if (argc != 4 || !read_plan(argv[2], &plan)) {
         fprintf(stderr, "usage: fmu_host FMU_DIR PLAN OUT.csv (see the source for PLAN)\n");
         return 1;

@@ -25,12 +25,14 @@ Subclasses set ``fmu_name`` (a key of ``[fmus]`` in the contract) and implement
 from __future__ import annotations
 
 import functools
+import json
 import math
 import numbers
 import operator
 import sys
 import time
 import traceback
+import weakref
 from typing import Any, Callable, ClassVar
 
 import numpy as np
@@ -189,6 +191,10 @@ class ContractSlave(Fmi2Slave):
     def _scalar(self, var: contract.Variable):
         name, cast = var.name, _CAST[var.type]
         values = self.values
+        # the setters reach the slave through a weak reference: a closure holding the slave
+        # would make a reference cycle (slave -> variable -> setter -> slave) that keeps the
+        # freed slave and its model alive until the garbage collector's next full pass
+        slave = weakref.ref(self)
 
         def getter():
             return values[name]
@@ -200,13 +206,13 @@ class ContractSlave(Fmi2Slave):
             kw["initial"] = Fmi2Initial.exact
 
             def setter(value):
-                if self.initialized:
-                    self.log(f"parameter '{name}' is fixed after initialisation; the new value is ignored",
+                if slave().initialized:
+                    slave().log(f"parameter '{name}' is fixed after initialisation; the new value is ignored",
                              Fmi2Status.warning)
                     return
                 value = cast(value)
                 if not _in_range(var, value):
-                    self.log_error(f"parameter {name} = {value!r} is invalid: allowed {_range_text(var)}; "
+                    slave().log_error(f"parameter {name} = {value!r} is invalid: allowed {_range_text(var)}; "
                                    "the value is not set")
                     return
                 values[name] = value
@@ -222,7 +228,7 @@ class ContractSlave(Fmi2Slave):
             kw["initial"] = Fmi2Initial.calculated  # computed at initialisation (an InitialUnknown)
 
             def setter(value):
-                self.log(f"'{name}' is an output and cannot be set", Fmi2Status.warning)
+                slave().log(f"'{name}' is an output and cannot be set", Fmi2Status.warning)
         return _TYPES[var.type](name, getter=getter, setter=setter, **kw)
 
     # ------------------------------------------------------------ logging
@@ -381,21 +387,54 @@ class ContractSlave(Fmi2Slave):
         return self._guard("getFMUstate", run, default={"fmu": self.fmu_name, "invalid": True})
 
     def _set_fmu_state(self, state: dict[str, Any]) -> None:
-        def run():
-            if state.get("fmu") != self.fmu_name or state.get("invalid"):
-                raise ValueError(f"the state does not belong to a valid {self.fmu_name} instance")
-            keep = self._model_time
-            self.values.update(state["values"])
-            self.values["model_wall_time"] = keep
-            self.start_time = float(state["start_time"])
-            self.failed = state["failed"]
-            self.initialized = bool(state["initialized"])
-            if self.initialized:
-                self._restore_model_state(state["model"])
+        """Restore a state of :meth:`_get_fmu_state`; a state that cannot be restored is an
+        error and leaves the instance as it was (the state before the call is put back)."""
+        def check(saved: dict[str, Any]) -> None:
+            if saved.get("fmu") != self.fmu_name or saved.get("invalid"):
+                reason = saved.get("invalid") if isinstance(saved.get("invalid"), str) else "it is not valid"
+                raise TowcableError(f"the state does not belong to a valid {self.fmu_name} instance ({reason})")
+            if not isinstance(saved.get("values"), dict) or not set(saved["values"]) <= set(self.values):
+                raise TowcableError(f"the state's values are not those of {self.fmu_name}")
 
-        ok = self._guard("setFMUstate", lambda: run() or True, default=False)
-        if not ok:
-            self.failed = "the FMU state could not be restored (see the previous message)"
+        def run(saved: dict[str, Any]) -> None:
+            keep = self._model_time
+            self.values.update(saved["values"])
+            self.values["model_wall_time"] = keep
+            self.start_time = float(saved["start_time"])
+            self.failed = saved["failed"]
+            self.initialized = bool(saved["initialized"])
+            if self.initialized:
+                self._restore_model_state(saved["model"])
+
+        if not self._guard("setFMUstate", lambda: check(state) or True, default=False):
+            return
+        before = self._get_fmu_state()
+        if self._guard("setFMUstate", lambda: run(state) or True, default=False):
+            return
+        if not self._guard("setFMUstate (putting the previous state back)", lambda: run(before) or True,
+                           default=False):
+            self.failed = "the FMU state could not be restored, nor the previous one (see the previous messages)"
+
+    @staticmethod
+    def _fmu_state_to_bytes(state: dict[str, Any]) -> bytes:
+        """The state as JSON text (pythonfmu calls this on the class: it must never raise,
+        or pythonfmu releases the instance's Python objects; a state that cannot be
+        encoded becomes an invalid state that :meth:`_set_fmu_state` refuses)."""
+        try:
+            return json.dumps(state).encode("utf-8")
+        except (TypeError, ValueError) as exc:
+            return json.dumps({"invalid": f"the state could not be encoded: {exc}"}).encode("utf-8")
+
+    @staticmethod
+    def _fmu_state_from_bytes(data: bytes) -> dict[str, Any]:
+        """The state of JSON text; text that is not a state's becomes an invalid state that
+        :meth:`_set_fmu_state` refuses (never raises, see :meth:`_fmu_state_to_bytes`).
+        The loader layer has checked the bytes' FMU, build and checksum before."""
+        try:
+            state = json.loads(data.decode("utf-8"))
+        except (UnicodeDecodeError, ValueError) as exc:
+            return {"invalid": f"the bytes are not JSON text: {exc}"}
+        return state if isinstance(state, dict) else {"invalid": "the JSON text is not an object"}
 
     # ------------------------------------------------------------ hooks
     def _initialize(self) -> None:
