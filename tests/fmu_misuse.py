@@ -132,6 +132,8 @@ class Generator:
         self.outputs = [v for v in self.variables if v.causality == "output" and v.type == "Real"
                         and v.name not in DIAGNOSTIC]
         self.largest_vr = max(v.vr for v in self.variables)
+        #: The classes of the misuses inserted so far (class -> count).
+        self.drawn: dict[str, int] = {}
 
     # ------------------------------------------------------------------ backbone
     def input_values(self, k: int) -> dict[str, float]:
@@ -151,17 +153,20 @@ class Generator:
     def _record(self, slot: int) -> str:
         return f"0 record {slot} " + ",".join(str(v.vr) for v in self.outputs)
 
-    def script(self, rng: np.random.Generator | None, density: float = 1.5) -> list[str]:
+    def script(self, rng: np.random.Generator | None, density: float = 3.0) -> list[str]:
         """A script; ``rng`` None gives the backbone alone (and the fixed segments), else
         on average ``density`` misuses are inserted at each point of the backbone."""
         lines: list[str] = []
         state = {"phase": "instantiated", "t": 0.0, "inputs": self.input_values(0)}
 
-        def insert():
+        def insert(weight: float = 1.0):  # the phases before and after the steps have fewer points
             if rng is None:
                 return
-            for _ in range(rng.poisson(density)):
-                lines.extend(self._misuse(rng, state))
+            for _ in range(rng.poisson(density * weight)):
+                kind, misuse = self._misuse(rng, state)
+                lines.extend(misuse)
+                if misuse:
+                    self.drawn[kind] = self.drawn.get(kind, 0) + 1
 
         # instance 2: another FMU, its state and bytes (state 7, bytes 3)
         lines += ["0 inst 2 1 other", "0 gstate 2 7", "0 ser 2 7 3"]
@@ -170,13 +175,13 @@ class Generator:
         # instance under test (0) is made before, so that it cannot take the freed address
         lines += ["0 inst 0 0 main", "0 inst 1 0 second", "0 setup 1 0.0", *self._set_lines(1, self.params),
                   "0 enter 1", "0 exit 1", "0 gstate 1 6", "- free 1", "3 sstate 0 6", "3 step 1 0.0 0.01"]
-        insert()
+        insert(3)
         lines += ["0 setup 0 0.0", *self._set_lines(0, self.params)]
-        insert()
+        insert(3)
         lines.append("0 enter 0")
         state["phase"] = "initialization"
         lines += self._set_lines(0, state["inputs"])
-        insert()
+        insert(4)
         lines += ["0 exit 0", self._record(0)]
         state["phase"] = "step"
         for k in range(self.steps):
@@ -189,7 +194,7 @@ class Generator:
         insert()
         lines.append("0 term 0")
         state["phase"] = "terminated"
-        insert()
+        insert(4)
         lines += ["- free 0"]
         lines += self._recovery()
         lines += ["- free 2"]
@@ -216,88 +221,95 @@ class Generator:
                 "0 fstate 3 5", "- free 3"]
 
     # ------------------------------------------------------------------ misuse
-    def _misuse(self, rng: np.random.Generator, state: dict) -> list[str]:
-        """One inserted misuse (a few lines) for the phase in ``state``."""
+    def _misuse(self, rng: np.random.Generator, state: dict) -> tuple[str, list[str]]:
+        """One inserted misuse for the phase in ``state``: its class and its lines (none
+        if the class drew a valid call that would change the run)."""
+        kind = str(rng.choice(["call", "bad_step", "get", "set", "nan_step", "roundtrip", "bad_bytes", "foreign",
+                               "freed_state", "stale", "unprovided", "small_buffer", "null"]))
+        return self._lines(kind, rng, state)
+
+    def _lines(self, kind: str, rng: np.random.Generator, state: dict) -> tuple[str, list[str]]:  # noqa: C901
         phase = state["phase"]
-        kind = rng.choice(["call", "bad_step", "get", "set", "nan_step", "roundtrip", "bad_bytes", "foreign",
-                           "freed_state", "stale", "unprovided", "small_buffer", "null"])
         allowed = lambda what: phase in ALLOWED[what]  # noqa: E731
         if kind == "call":
-            op = rng.choice(["setup", "enter", "exit", "term", "step"])
+            op = str(rng.choice(["setup", "enter", "exit", "term", "step"]))
             if allowed(op):
-                return []  # valid: it would change the run
+                return kind, []  # valid: it would change the run
             args = {"setup": " 0.0", "step": f" {state['t']!r} {self.h!r}"}.get(op, "")
-            return [f"{ERROR} {op} 0{args}"]
+            return f"call {op} in {phase}", [f"{ERROR} {op} 0{args}"]
         if kind == "bad_step":
             t_model = state["t"]
             t_bad, h_bad = [(t_model, 0.0), (t_model, -self.h), (t_model, math.nan), (t_model, math.inf),
                             (t_model + 0.5, self.h), (math.nan, self.h)][rng.integers(6)]
-            return [f"{DISCARD if allowed('step') else ERROR} step 0 {t_bad!r} {h_bad!r}"]
+            return kind, [f"{DISCARD if allowed('step') else ERROR} step 0 {t_bad!r} {h_bad!r}"]
         if kind == "get":
-            return [self._get(rng, phase)]
+            return self._get(rng, phase)
         if kind == "set":
             return self._bad_set(rng, phase)
         ship = [v for v in self.inputs if v.name.startswith("ship.")]  # every model refuses a non-finite ship
         if kind == "nan_step" and phase == "step" and ship:
             var = ship[rng.integers(len(ship))]
             value = [math.nan, math.inf, -math.inf][rng.integers(3)]
-            return [f"0 setr 0 {var.vr} {value!r}", f"{DISCARD} step 0 {state['t']!r} {self.h!r}",
-                    f"0 setr 0 {var.vr} {state['inputs'][var.name]!r}"]
+            return kind, [f"0 setr 0 {var.vr} {value!r}", f"{DISCARD} step 0 {state['t']!r} {self.h!r}",
+                          f"0 setr 0 {var.vr} {state['inputs'][var.name]!r}"]
         if kind == "roundtrip":
             if rng.integers(2):
-                return ["0 gstate 0 0", "0 sstate 0 0", "0 fstate 0 0"]
-            return ["0 gstate 0 0", "0 ser 0 0 0", "0 deser 0 0 1", "0 sstate 0 1", "0 fstate 0 1", "0 fstate 0 0"]
+                return "state round trip", ["0 gstate 0 0", "0 sstate 0 0", "0 fstate 0 0"]
+            return "serialised round trip", ["0 gstate 0 0", "0 ser 0 0 0", "0 deser 0 0 1", "0 sstate 0 1",
+                                             "0 fstate 0 1", "0 fstate 0 0"]
         if kind == "bad_bytes":
             mode = ["flip", "trunc", "json", "empty", "guid", "other"][rng.integers(6)]
             forge = {"flip": f"- forge 1 flip {rng.integers(1 << 30)}", "trunc": f"- forge 1 trunc {rng.integers(200)}",
                      "json": "- forge 1 json 0", "empty": "- forge 1 empty 0", "guid": "- forge 1 guid 0",
                      "other": "- forge 1 copy 3"}[mode]
             lines = ["0 gstate 0 0", "0 ser 0 0 1"] if mode != "other" else ["0 gstate 0 0"]
-            return lines + [forge, f"{ERROR} deser 0 1 2", "0 fstate 0 0"]
+            return f"bytes {mode}", lines + [forge, f"{ERROR} deser 0 1 2", "0 fstate 0 0"]
         if kind == "foreign":
-            return [f"{ERROR} {op} 0 7" for op in ("sstate", "fstate")] + [f"{ERROR} ser 0 7 2"]
+            return kind, [f"{ERROR} {op} 0 7" for op in ("sstate", "fstate")] + [f"{ERROR} ser 0 7 2"]
         if kind == "freed_state":
-            return ["0 gstate 0 0", "0 fstate 0 0", f"{ERROR} sstate 0 0", f"{ERROR} fstate 0 0"]
+            return kind, ["0 gstate 0 0", "0 fstate 0 0", f"{ERROR} sstate 0 0", f"{ERROR} fstate 0 0"]
         if kind == "stale":
-            op = rng.choice([f"step 1 {state['t']!r} {self.h!r}", f"getr 1 {self.outputs[0].vr}", "enter 1",
-                             "reset 1", "gstate 1 4"])
-            return [f"{ERROR} {op}"]
+            op = str(rng.choice([f"step 1 {state['t']!r} {self.h!r}", f"getr 1 {self.outputs[0].vr}", "enter 1",
+                                 "reset 1", "gstate 1 4"]))
+            return kind, [f"{ERROR} {op}"]
         if kind == "unprovided":
-            return [f"{ERROR} unprov 0"]
+            return kind, [f"{ERROR} unprov 0"]
         if kind == "small_buffer":
-            return ["0 gstate 0 0", f"{ERROR} ser_small 0 0", "0 fstate 0 0"]
+            return kind, ["0 gstate 0 0", f"{ERROR} ser_small 0 0", "0 fstate 0 0"]
         if kind == "null":
-            return [f"{ERROR} getr_null 0"]
-        return []
+            return kind, [f"{ERROR} getr_null 0"]
+        return kind, []
 
-    def _get(self, rng: np.random.Generator, phase: str) -> str:
+    def _get(self, rng: np.random.Generator, phase: str) -> tuple[str, list[str]]:
         kind = ["Real", "Integer", "Boolean", "String"][rng.integers(4)]
         op = {"Real": "getr", "Integer": "geti", "Boolean": "getb", "String": "gets"}[kind]
         known = [v for v in self.variables if v.type == kind]
         if known and rng.integers(2):
             var = known[rng.integers(len(known))]
-            return f"{OK if phase in ALLOWED['get'] else ERROR} {op} 0 {var.vr}"
+            return ("get" if phase in ALLOWED["get"] else f"get in {phase}",
+                    [f"{OK if phase in ALLOWED['get'] else ERROR} {op} 0 {var.vr}"])
         wrong_type = [v.vr for v in self.variables if v.type != kind and not any(w.vr == v.vr for w in known)]
         vr = [self.largest_vr + 1 + int(rng.integers(1000)), 2**32 - 1, *wrong_type[:1]][rng.integers(2 + bool(wrong_type))]
-        return f"{ERROR} {op} 0 {vr}"
+        return "get of an unknown value reference", [f"{ERROR} {op} 0 {vr}"]
 
-    def _bad_set(self, rng: np.random.Generator, phase: str) -> list[str]:
+    def _bad_set(self, rng: np.random.Generator, phase: str) -> tuple[str, list[str]]:
         """A set the state machine or the variable's range refuses ([] if it drew a valid one)."""
         ops = {"Real": "setr", "Integer": "seti", "Boolean": "setb", "String": "sets"}
         var = self.variables[rng.integers(len(self.variables))]
         choice = rng.integers(4)
         if choice == 0:  # an unknown value reference
-            return [f"{ERROR} setr 0 {self.largest_vr + 1 + int(rng.integers(1000))} 1.0"]
+            return "set of an unknown value reference", [f"{ERROR} setr 0 {self.largest_vr + 1 + int(rng.integers(1000))} 1.0"]
         if phase not in ALLOWED["set"] or not settable(var, phase):
             value = {"Real": "1.0", "Integer": "1", "Boolean": "1", "String": "x"}[var.type]
-            return [f"{ERROR} {ops[var.type]} 0 {var.vr} {value}"]
+            return f"set of a {var.causality} in {phase}", [f"{ERROR} {ops[var.type]} 0 {var.vr} {value}"]
         if var.causality == "parameter" and var.type == "Real" and choice == 1:
-            return [f"{ERROR} setr 0 {var.vr} {[math.nan, math.inf, -math.inf][rng.integers(3)]!r}"]
+            return "non-finite parameter", [f"{ERROR} setr 0 {var.vr} {[math.nan, math.inf, -math.inf][rng.integers(3)]!r}"]
         if var.causality == "parameter" and var.type in ("Real", "Integer") and (var.min is not None
                                                                                  or var.max is not None):
             value = var.max + 1 if var.max is not None else var.min - 1
-            return [f"{ERROR} {ops[var.type]} 0 {var.vr} {_value_text(var, value if var.type == 'Real' else int(value))}"]
-        return []  # a valid set: it would change the run
+            text = _value_text(var, value if var.type == "Real" else int(value))
+            return "parameter out of range", [f"{ERROR} {ops[var.type]} 0 {var.vr} {text}"]
+        return "set", []  # a valid set: it would change the run
 
 
 # ---------------------------------------------------------------------- executor

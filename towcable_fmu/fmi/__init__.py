@@ -9,7 +9,8 @@
   private package name;
 * :mod:`towcable_fmu.fmi.runtime` — the Python runtime a standalone FMU carries;
 * :mod:`towcable_fmu.fmi.native` — the C loader layer of the Linux binary
-  (``csrc/fmu_loader.c``): finds or starts a Python, relays errors, returns fmi2Error;
+  (``csrc/fmu_loader.c``): finds or starts a Python, enforces the FMI 2.0 state machine
+  (``csrc/state_machine.c``), relays errors, returns fmi2Error, checks FMU-state bytes;
 * :mod:`towcable_fmu.fmi.ssp` — the SSP file of the three-FMU system;
 * :mod:`towcable_fmu.fmi.crosscheck` — the FMI Cross-Check artefacts.
 

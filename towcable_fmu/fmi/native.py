@@ -8,8 +8,10 @@ messages when the host turned logging off and cannot return ``fmi2Error``.
 machine's C compiler) and keeps pythonfmu's library beside it as
 ``binaries/linux64/libpythonfmu-export.so``. At the first ``fmi2Instantiate`` the layer
 uses the Python already in the process, else the runtime a standalone FMU carries, else
-the machine's Python; then it forwards every FMI call, relays error messages to the host
-whatever its logging setting, and returns the most severe status the model logged.
+the machine's Python; then it enforces the FMI 2.0 state machine (``csrc/state_machine.c``),
+forwards every allowed FMI call, relays error messages to the host whatever its logging
+setting, returns the most severe status the model logged, and wraps serialised FMU states
+in an envelope with the FMU's name, GUID and a checksum (``csrc/state_bytes.c``).
 
 Linux only: the ``win64`` binary of pythonfmu is left as it is.
 """

@@ -17,6 +17,16 @@ the call return the most severe status logged during it. So
   that is not the model's time, a solver failure) is ``fmi2Discard`` with the reason;
   the outputs keep their last valid values (never NaN).
 
+The FMI 2.0 state machine (which call is allowed in which state, which variable may be
+set when, unknown value references, untrusted FMU-state bytes) is enforced once, in the
+loader layer (``csrc/state_machine.c``, applied in ``csrc/fmu_loader.c``), before a call
+reaches pythonfmu; FMUs built without the layer (no C compiler, Windows) do not have it.
+This class keeps the model-side rules: parameter ranges, refused steps, and a state that
+cannot be restored leaving the instance as it was. Its setters hold the slave weakly, so
+that the slave and its model are freed as soon as pythonfmu drops them (a reference
+cycle would keep them until the garbage collector's next full pass: about 150 kB a freed
+TowCable instance on ``full_scale``).
+
 Subclasses set ``fmu_name`` (a key of ``[fmus]`` in the contract) and implement
 ``_initialize()``, ``_step(t, dt)`` and optionally ``_model_state()`` /
 ``_restore_model_state()`` and ``_inputs_changed()``.
@@ -172,6 +182,7 @@ class ContractSlave(Fmi2Slave):
         self.failed: str | None = None
         self.in_initialization = False
         self._model_time = 0.0
+        self._communication_time = 0.0  # the time the next step starts from [s]
         for var in spec.variables:
             self.values[var.name] = var.start if var.start is not None else _CAST[var.type](0)
             self.register_variable(self._scalar(var), nested=False)
@@ -286,6 +297,7 @@ class ContractSlave(Fmi2Slave):
         if ok:
             self.initialized = True
             self.failed = None
+            self._communication_time = self.start_time
         else:
             self.failed = "initialisation failed (see the previous message); the FMU cannot step"
 
@@ -304,7 +316,15 @@ class ContractSlave(Fmi2Slave):
             if not math.isfinite(current_time):
                 self.log_error(f"communication point {current_time!r} is not finite", Fmi2Status.discard)
                 return False
-            return bool(self._step(float(current_time), float(step_size)))
+            now = self._communication_time
+            if abs(current_time - now) > 1e-9 * max(1.0, abs(current_time)):
+                self.log_error(f"communication point t = {current_time!r} s is not the model time {now!r} s "
+                               "(steps must follow each other, or restore a state first)", Fmi2Status.discard)
+                return False
+            if not self._step(float(current_time), float(step_size)):
+                return False
+            self._communication_time = current_time + step_size
+            return True
         except Exception as exc:  # noqa: BLE001 - nothing may reach pythonfmu's C layer
             self._report(f"step from t = {current_time:.6g} s by {step_size:.6g} s failed", exc, Fmi2Status.discard)
             return False
@@ -381,7 +401,7 @@ class ContractSlave(Fmi2Slave):
     def _get_fmu_state(self) -> dict[str, Any]:
         def run():
             return {"fmu": self.fmu_name, "values": dict(self.values), "initialized": self.initialized,
-                    "failed": self.failed, "start_time": self.start_time,
+                    "failed": self.failed, "start_time": self.start_time, "time": self._communication_time,
                     "model": self._model_state() if self.initialized else None}
 
         return self._guard("getFMUstate", run, default={"fmu": self.fmu_name, "invalid": True})
@@ -401,6 +421,7 @@ class ContractSlave(Fmi2Slave):
             self.values.update(saved["values"])
             self.values["model_wall_time"] = keep
             self.start_time = float(saved["start_time"])
+            self._communication_time = float(saved["time"])
             self.failed = saved["failed"]
             self.initialized = bool(saved["initialized"])
             if self.initialized:

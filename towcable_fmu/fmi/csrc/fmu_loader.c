@@ -22,10 +22,30 @@
  *    passes to the host's logger every message of status fmi2Discard or worse, and the
  *    others only as the host asked (loggingOn, fmi2SetDebugLogging categories); each
  *    call returns the most severe of pythonfmu's status and the statuses logged during
- *    the call, so an error the model reports is an fmi2Error the host sees.
+ *    the call, so an error the model reports is an fmi2Error the host sees;
+ * 4. enforces the FMI 2.0 Co-Simulation state machine (state_machine.c: the rules;
+ *    model_table.c: the variables of modelDescription.xml) before pythonfmu sees a call:
+ *    a call not allowed in the instance's state, a set the variable's causality or
+ *    variability forbids, an unknown value reference, a NULL array, a non-finite Real
+ *    parameter, a component or FMU state that is not a live one of this FMU (pointers
+ *    are looked up in registries, never followed first) are refused with fmi2Error and a
+ *    message naming the call, the variable and the state, and change nothing;
+ * 5. serialises FMU states in an envelope (state_bytes.c: FMU name, GUID, the state
+ *    machine's state, CRC-32) and refuses bytes that fail it, so that pythonfmu only
+ *    ever deserialises bytes it wrote.
  *
- * A failure to start (no Python, a missing file) makes fmi2Instantiate log the reason
- * through the host's logger with status fmi2Error and return NULL.
+ * pythonfmu 0.7 answers a Python exception with fmi2Fatal after releasing the slave's
+ * Python objects while keeping pointers to them (PySlaveInstance::handle_py_exception);
+ * each later exception releases them again, and the next call uses freed memory (the
+ * segmentation fault of issue 37: two failed deserialisations, then fmi2DoStep). The
+ * slaves never let an exception reach pythonfmu (towcable_fmu/fmi/slave.py) and this
+ * layer keeps bad input from them; should pythonfmu still return fmi2Fatal, the instance
+ * is marked broken: every later call is refused and fmi2FreeInstance leaves pythonfmu's
+ * component allocated rather than release its objects a second time.
+ *
+ * A failure to start (no Python, a missing file) or arguments that do not fit (another
+ * GUID, Model Exchange, NULL names) make fmi2Instantiate log the reason through the
+ * host's logger with status fmi2Error and return NULL.
  */
 #include <Python.h>
 
@@ -435,7 +455,9 @@ typedef struct Instance {
     char **categories;               /* the host's categories; none: all */
     size_t ncategories;
     fmi2Status worst;                /* most severe status logged during the current call */
+    char first_error[512];           /* the first error message logged during the current call */
     Phase phase;                     /* the state machine's state (state_machine.h) */
+    char error_cause[512];           /* in the error state: the message of the call that failed */
 } Instance;
 
 /* An FMU state given to the host: pythonfmu's (a Python object) and the phase it was
@@ -524,6 +546,8 @@ static void relay_logger(fmi2ComponentEnvironment env, fmi2String instance, fmi2
 {
     Instance *inst = (Instance *)env;
     if (status > inst->worst && status != fmi2Pending) inst->worst = status;
+    if (status >= fmi2Error && !inst->first_error[0] && message)
+        snprintf(inst->first_error, sizeof inst->first_error, "%s", message);
     const char *cat = category ? category : "";
     if (status >= fmi2Discard || (inst->logging_on && category_enabled(inst, cat)))
         send_text(&inst->host, instance, status, cat, message ? message : "");
@@ -547,7 +571,9 @@ static fmi2Status refuse(Instance *inst, const char *call, const char *format, .
     if (k > 0 && (size_t)k < sizeof text) k += vsnprintf(text + k, sizeof text - (size_t)k, format, args);
     va_end(args);
     if (k > 0 && (size_t)k < sizeof text)
-        snprintf(text + k, sizeof text - (size_t)k, " (state: %s)", phase_name(inst->phase));
+        snprintf(text + k, sizeof text - (size_t)k, " (state: %s%s%s)", phase_name(inst->phase),
+                 inst->phase == PHASE_ERROR && inst->error_cause[0] ? ", entered on: " : "",
+                 inst->phase == PHASE_ERROR ? inst->error_cause : "");
     send_text(&inst->host, inst->name, fmi2Error, "logStatusError", text);
     return fmi2Error;
 }
@@ -567,6 +593,7 @@ static int admit(Instance *inst, Call call, const char *name, fmi2Status *status
         return 0;
     }
     inst->worst = fmi2OK;
+    inst->first_error[0] = '\0';
     return 1;
 }
 
@@ -575,7 +602,10 @@ static int admit(Instance *inst, Call call, const char *name, fmi2Status *status
 static fmi2Status finish(Instance *inst, Call call, fmi2Status status)
 {
     if (status != fmi2Pending && status < inst->worst) status = inst->worst;
-    inst->phase = phase_after(call, inst->phase, status);
+    Phase before = inst->phase;
+    inst->phase = phase_after(call, before, status);
+    if (inst->phase == PHASE_ERROR && before != PHASE_ERROR)
+        snprintf(inst->error_cause, sizeof inst->error_cause, "%s", inst->first_error);
     return status;
 }
 
