@@ -18,8 +18,9 @@
  * Each instance: fmi2Instantiate, parameters, fmi2SetupExperiment(t0, t1),
  * fmi2EnterInitializationMode, inputs of row 0, fmi2ExitInitializationMode, outputs at
  * t0; then for k = 0, 1, ...: inputs of row k, fmi2DoStep(t_k, H), outputs at t_{k+1}
- * (the order of fmpy's simulate_fmu); fmi2Terminate, fmi2FreeInstance. OUT.csv holds the
- * first instance's outputs; the largest difference of a later instance to them is
+ * (the order of fmpy's simulate_fmu); fmi2Terminate (if no call failed: after an error
+ * FMI 2.0 allows only fmi2Reset and fmi2FreeInstance), fmi2FreeInstance. OUT.csv holds
+ * the first instance's outputs; the largest difference of a later instance to them is
  * printed. Exit status: 0 all calls fmi2OK, 1 bad arguments, 2 fmi2Instantiate failed,
  * 3 another FMI call failed, 4 a later instance differs.
  *
@@ -219,7 +220,7 @@ static int run(const Api *api, const Plan *plan, const char *uri, const double *
              && api->DoStep(c, t, plan->step, fmi2True) == fmi2OK
              && record(api, c, plan, out + (k + 1) * width);
     }
-    ok = api->Terminate(c) == fmi2OK && ok;
+    ok = ok && api->Terminate(c) == fmi2OK;
     api->FreeInstance(c);
     return ok ? 0 : 3;
 }

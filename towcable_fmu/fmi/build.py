@@ -55,6 +55,8 @@ REQUIREMENTS = {"numpy": "1.26", "scipy": "1.11", "numba": "0.59"}
 #: The FMU that carries precompiled kernels (the others compile at most a small kernel
 #: of the heave compensation's rigorous algorithms, which that FMU installs for them).
 KERNEL_FMU = "TowCable"
+#: The copy of modelDescription.xml the loader layer reads (csrc/model_table.c).
+DESCRIPTION_COPY = "resources/modelDescription.xml"
 #: The GUID written before the real one is known.
 _GUID_PLACEHOLDER = "00000000-0000-0000-0000-000000000000"
 #: Date of every archive entry (reproducible archives).
@@ -248,11 +250,15 @@ def fmu_files(spec: contract.FmuSpec, package: str, carried: dict[str, bytes], l
         files = native.loader_entries(files, spec.name, loader)
     if runtime is not None:
         files.update({f"resources/python/{name}": data for name, data in runtime.items()})
+    # the loader layer reads the variables and the GUID from resources/ (hosts need not
+    # extract the archive's root: fmpy's simulate_fmu does not)
+    files[DESCRIPTION_COPY] = files["modelDescription.xml"]
     h = hashlib.sha256()
     for name in sorted(files):  # before the kernels: the GUID is the same with and without them
         h.update(name.encode() + b"\0" + hashlib.sha256(files[name]).digest())
     guid = str(uuid.UUID(bytes=h.digest()[:16], version=5))
-    files["modelDescription.xml"] = files["modelDescription.xml"].replace(_GUID_PLACEHOLDER.encode(), guid.encode())
+    for name in ("modelDescription.xml", DESCRIPTION_COPY):
+        files[name] = files[name].replace(_GUID_PLACEHOLDER.encode(), guid.encode())
     files.update(kernels or {})
     return files
 

@@ -418,6 +418,13 @@ static int load_real(char *err, size_t n)
         return 0;
     }
     if (!model_table_read(root, &model, err, n)) return 0;
+    for (size_t i = 0; i < model.count; i++) { /* the set rules per variable, once */
+        Variable *v = &model.variables[i];
+        char why[8];
+        for (Phase p = 0; p < PHASE_COUNT; p++)
+            if (set_allowed(v, p, why, sizeof why)) v->settable |= 1u << p;
+        v->parameter = strcmp(v->causality, "parameter") == 0;
+    }
     if (!python_running() && !start_python(root, err, n)) return 0;
     snprintf(path, sizeof path, "%s/%s", dir, REAL_LIBRARY);
     void *handle = dlopen(path, RTLD_NOW | RTLD_LOCAL);
@@ -626,13 +633,13 @@ static fmi2Status check_variables(Instance *inst, const char *call, VariableType
         if (!v)
             return refuse(inst, call, "value reference %u is not a %s variable of %s", (unsigned)vr[i],
                           type_name(type), model_identifier);
-        if (setting && !set_allowed(v, inst->phase, why, sizeof why))
+        if (!setting) continue;
+        if (!(v->settable & (1u << inst->phase)) && !set_allowed(v, inst->phase, why, sizeof why))
             return refuse(inst, call, "variable '%s' (value reference %u): %s", v->name, (unsigned)vr[i], why);
-        if (setting && type == TYPE_REAL && strcmp(v->causality, "parameter") == 0
-            && !isfinite(((const fmi2Real *)values)[i]))
+        if (type == TYPE_REAL && v->parameter && !isfinite(((const fmi2Real *)values)[i]))
             return refuse(inst, call, "parameter '%s' = %g is not a finite number; the value is not set", v->name,
                           ((const fmi2Real *)values)[i]);
-        if (setting && type == TYPE_STRING && !((const fmi2String *)values)[i])
+        if (type == TYPE_STRING && !((const fmi2String *)values)[i])
             return refuse(inst, call, "variable '%s': NULL string", v->name);
     }
     return fmi2OK;

@@ -1,6 +1,7 @@
 /*
  * modelDescription.xml read with a small scanner: the root element's guid and each
- * ScalarVariable's attributes and type element. The file is written by
+ * ScalarVariable's attributes and type element. The file is the copy in resources/ (a
+ * host need not extract the archive's root file), written by
  * towcable_fmu/fmi/build.py (ElementTree: attribute values escape '"', '<' and '>'), so
  * an attribute is ` key="value"` inside its start tag.
  */
@@ -122,7 +123,7 @@ static int parse(const char *text, ModelTable *table, char *err, size_t n)
 int model_table_read(const char *root, ModelTable *table, char *err, size_t n)
 {
     char path[4200];
-    snprintf(path, sizeof path, "%s/modelDescription.xml", root);
+    snprintf(path, sizeof path, "%s/resources/modelDescription.xml", root);
     memset(table, 0, sizeof *table);
     char *text = read_file(path);
     if (!text) {

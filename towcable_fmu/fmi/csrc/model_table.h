@@ -19,17 +19,20 @@ typedef struct {
     char variability[16]; /* constant, fixed, tunable, discrete, continuous */
     char initial[12];     /* exact, approx, calculated, or "" */
     char name[160];
+    unsigned settable;    /* bit p: may be set in phase p (filled by the loader from state_machine.h) */
+    int parameter;        /* causality parameter */
 } Variable;
 
 typedef struct {
     char guid[96];
-    Variable *variables;
+    Variable *variables;  /* (the loader fills settable and parameter) */
     size_t count;
     int *index;           /* value reference -> position in variables, -1: none */
     size_t index_size;
 } ModelTable;
 
-/* Read root/modelDescription.xml into table; 0 with a message in err if it cannot. */
+/* Read root/resources/modelDescription.xml (the build's copy of the FMU's) into table; 0
+   with a message in err if it cannot. */
 int model_table_read(const char *root, ModelTable *table, char *err, size_t n);
 
 /* The variable of this type and value reference, or NULL. */
