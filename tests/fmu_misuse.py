@@ -24,7 +24,8 @@ test / 1 = another one, S state slot, B byte-buffer slot, VR value reference)::
                            one GUID character changed, checksum recomputed), copy B2
     unprov I               fmi2GetDirectionalDerivative (not provided)
 
-The generator builds a valid *backbone* (instantiate, parameters, initialise, steps with
+``python fmu_misuse.py`` runs scripts (see :func:`main`, :func:`run_main`,
+:func:`cycles_main`). The generator builds a valid *backbone* (instantiate, parameters, initialise, steps with
 inputs, records, terminate, free) and inserts, at random points, calls drawn from every
 class of misuse; FMI 2.0's state machine (written here from the standard's table, not
 from the loader's code) says what each inserted call returns. Inserted calls never
@@ -35,6 +36,7 @@ same records.
 
 from __future__ import annotations
 
+import collections
 import ctypes
 import math
 import struct
@@ -331,7 +333,7 @@ class Executor:
             identifier, guid, _ = model(d)
             self.libs.append(ctypes.CDLL(str(d / "binaries" / "linux64" / f"{identifier}.so")))
             self.guids.append(guid)
-        self.messages: list[str] = []
+        self.messages: collections.deque[str] = collections.deque(maxlen=100)  # the last ones
         self._logger = _LOGGER(lambda env, name, status, category, message: self.messages.append(
             f"[{status}] {(message or b'').decode(errors='replace')}"))
         libc = ctypes.CDLL(None)
@@ -477,22 +479,50 @@ def resident_bytes() -> int:
         return int(statm.read().split()[1]) * 4096
 
 
+class _Mallinfo2(ctypes.Structure):
+    _fields_ = [(name, ctypes.c_size_t) for name in ("arena", "ordblks", "smblks", "hblks", "hblkhd", "usmblks",
+                                                     "fsmblks", "uordblks", "fordblks", "keepcost")]
+
+
+def heap_in_use() -> int:
+    """Bytes allocated with malloc and not freed (glibc's mallinfo2: small and mmapped
+    chunks); unlike the resident memory it does not hide a leak in memory freed earlier.
+    With ``PYTHONMALLOC=malloc`` it includes Python's objects."""
+    mallinfo2 = ctypes.CDLL(None).mallinfo2
+    mallinfo2.restype = _Mallinfo2
+    info = mallinfo2()
+    return info.uordblks + info.hblkhd
+
+
 def cycles_main(argv: list[str]) -> int:
     """``python fmu_misuse.py cycles FMU_DIR N PARAMS_JSON``: N instance lives (:meth:`Generator.cycle`)
-    in this process; prints the resident memory after each as a JSON list [bytes]."""
+    in this process; prints the heap in use (:func:`heap_in_use`) and the resident memory
+    after each as JSON lists [bytes]."""
     import json
 
     fmu_dir, count, params = Path(argv[0]), int(argv[1]), json.loads(argv[2])
     gen = Generator(fmu_dir, params)
     executor = Executor([fmu_dir, fmu_dir])
-    resident = []
+    heap, resident = [], []
     for i in range(count):
         mismatches, _ = executor.run(gen.cycle(f"cycle{i}"))
         if mismatches:
-            print(json.dumps({"mismatches": mismatches, "messages": executor.messages[-5:]}))
+            print(json.dumps({"mismatches": mismatches, "messages": list(executor.messages)[-5:]}))
             return 1
+        heap.append(heap_in_use())
         resident.append(resident_bytes())
-    print(json.dumps(resident))
+    print(json.dumps({"heap": heap, "resident": resident}))
+    return 0
+
+
+def run_main(argv: list[str]) -> int:
+    """``python fmu_misuse.py run FMU_DIR OTHER_DIR SCRIPT``: one script file; prints the
+    mismatches and the records as JSON."""
+    import json
+
+    executor = Executor([Path(argv[0]), Path(argv[1])])
+    mismatches, records = executor.run(Path(argv[2]).read_text(encoding="utf-8").splitlines())
+    print(json.dumps({"mismatches": mismatches, "records": records, "messages": list(executor.messages)}))
     return 0
 
 
@@ -519,10 +549,11 @@ def main(argv: list[str]) -> int:
         summary["calls"] += len(lines)
         summary["mismatches"] += [(i, *m) for m in mismatches]
         summary["differences"] += sum(a != b for a, b in zip(records, expected)) + abs(len(records) - len(expected))
-    summary["messages"] = executor.messages[-5:]
+    summary["messages"] = list(executor.messages)[-5:]
     print(json.dumps(summary))
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(cycles_main(sys.argv[2:]) if sys.argv[1:2] == ["cycles"] else main(sys.argv[1:]))
+    commands = {"cycles": cycles_main, "run": run_main}
+    sys.exit(commands[sys.argv[1]](sys.argv[2:]) if sys.argv[1] in commands else main(sys.argv[1:]))

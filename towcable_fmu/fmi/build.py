@@ -178,13 +178,17 @@ def entry_script(spec: contract.FmuSpec, package: str) -> str:
     never owned (``Py_DECREF`` of ``PyModule_GetDict``). A module without functions has
     few references to its dict, so after a few instantiations the dict is freed while
     still in use and the host crashes in the garbage collector. The last statement adds
-    one reference per execution to balance that release.
+    one reference per execution to balance that release. It also inserts the resources
+    folder into ``sys.path`` at every instantiation: the statement before drops the
+    repeats (the first occurrence, which decides an import, stays).
     """
     module, cls = spec.slave.split(":")
     return (f'"""{spec.name} FMU entry point, written by build_fmu.py: the slave {module}.{cls} of the\n'
             f'code this FMU carries (package {package}, see towcable_fmu/fmi/bundle.py)."""\n\n'
+            "import sys\n\n"
             f"from {package}_activate import activate\n\n"
             f'{cls} = activate("{package}", "{module}", "{cls}", __file__)\n\n'
+            "sys.path[:] = dict.fromkeys(sys.path)  # see towcable_fmu/fmi/build.py\n"
             'globals().setdefault("_pythonfmu_dict_refs", []).append(globals())  # see towcable_fmu/fmi/build.py\n')
 
 
