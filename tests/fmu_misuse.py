@@ -291,7 +291,8 @@ class Generator:
             return ("get" if phase in ALLOWED["get"] else f"get in {phase}",
                     [f"{OK if phase in ALLOWED['get'] else ERROR} {op} 0 {var.vr}"])
         wrong_type = [v.vr for v in self.variables if v.type != kind and not any(w.vr == v.vr for w in known)]
-        vr = [self.largest_vr + 1 + int(rng.integers(1000)), 2**32 - 1, *wrong_type[:1]][rng.integers(2 + bool(wrong_type))]
+        unknown = [self.largest_vr + 1 + int(rng.integers(1000)), 2**32 - 1, *wrong_type[:1]]
+        vr = unknown[rng.integers(len(unknown))]
         return "get of an unknown value reference", [f"{ERROR} {op} 0 {vr}"]
 
     def _bad_set(self, rng: np.random.Generator, phase: str) -> tuple[str, list[str]]:
@@ -300,12 +301,14 @@ class Generator:
         var = self.variables[rng.integers(len(self.variables))]
         choice = rng.integers(4)
         if choice == 0:  # an unknown value reference
-            return "set of an unknown value reference", [f"{ERROR} setr 0 {self.largest_vr + 1 + int(rng.integers(1000))} 1.0"]
+            vr = self.largest_vr + 1 + int(rng.integers(1000))
+            return "set of an unknown value reference", [f"{ERROR} setr 0 {vr} 1.0"]
         if phase not in ALLOWED["set"] or not settable(var, phase):
             value = {"Real": "1.0", "Integer": "1", "Boolean": "1", "String": "x"}[var.type]
             return f"set of a {var.causality} in {phase}", [f"{ERROR} {ops[var.type]} 0 {var.vr} {value}"]
         if var.causality == "parameter" and var.type == "Real" and choice == 1:
-            return "non-finite parameter", [f"{ERROR} setr 0 {var.vr} {[math.nan, math.inf, -math.inf][rng.integers(3)]!r}"]
+            value = [math.nan, math.inf, -math.inf][rng.integers(3)]
+            return "non-finite parameter", [f"{ERROR} setr 0 {var.vr} {value!r}"]
         if var.causality == "parameter" and var.type in ("Real", "Integer") and (var.min is not None
                                                                                  or var.max is not None):
             value = var.max + 1 if var.max is not None else var.min - 1
@@ -420,7 +423,8 @@ class Executor:
                 return status
             small = op == "ser_small"
             buffer = ctypes.create_string_buffer(max(size.value - small, 1))
-            status = max(status, f("fmi2SerializeFMUstate")(c, states.get(s), buffer, ctypes.c_size_t(size.value - small)))
+            second = f("fmi2SerializeFMUstate")(c, states.get(s), buffer, ctypes.c_size_t(size.value - small))
+            status = max(status, second)
             if not small:
                 data[int(a[2])] = buffer.raw[:size.value]
             return status

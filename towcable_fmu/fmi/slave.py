@@ -24,8 +24,8 @@ reaches pythonfmu; FMUs built without the layer (no C compiler, Windows) do not 
 This class keeps the model-side rules: parameter ranges, refused steps, and a state that
 cannot be restored leaving the instance as it was. Its setters hold the slave weakly, so
 that the slave and its model are freed as soon as pythonfmu drops them (a reference
-cycle would keep them until the garbage collector's next full pass: about 150 kB a freed
-TowCable instance on ``full_scale``).
+cycle kept them until the garbage collector's next full pass: on ``full_scale`` the heap
+rose by 70 kB per instance life, now 9 kB; docs/design.md).
 
 Subclasses set ``fmu_name`` (a key of ``[fmus]`` in the contract) and implement
 ``_initialize()``, ``_step(t, dt)`` and optionally ``_model_state()`` /
@@ -219,12 +219,12 @@ class ContractSlave(Fmi2Slave):
             def setter(value):
                 if slave().initialized:
                     slave().log(f"parameter '{name}' is fixed after initialisation; the new value is ignored",
-                             Fmi2Status.warning)
+                                Fmi2Status.warning)
                     return
                 value = cast(value)
                 if not _in_range(var, value):
                     slave().log_error(f"parameter {name} = {value!r} is invalid: allowed {_range_text(var)}; "
-                                   "the value is not set")
+                                      "the value is not set")
                     return
                 values[name] = value
         elif var.causality == "input":
@@ -409,6 +409,7 @@ class ContractSlave(Fmi2Slave):
     def _set_fmu_state(self, state: dict[str, Any]) -> None:
         """Restore a state of :meth:`_get_fmu_state`; a state that cannot be restored is an
         error and leaves the instance as it was (the state before the call is put back)."""
+
         def check(saved: dict[str, Any]) -> None:
             if saved.get("fmu") != self.fmu_name or saved.get("invalid"):
                 reason = saved.get("invalid") if isinstance(saved.get("invalid"), str) else "it is not valid"

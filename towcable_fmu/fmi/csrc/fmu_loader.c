@@ -143,25 +143,6 @@ static int exists(const char *path)
     return stat(path, &st) == 0;
 }
 
-/* Read a text file into a new NUL-terminated buffer (NULL if it cannot be read). */
-static char *read_text(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    char *text = NULL;
-    long size = -1;
-    if (fseek(f, 0, SEEK_END) == 0 && (size = ftell(f)) >= 0 && fseek(f, 0, SEEK_SET) == 0)
-        text = malloc((size_t)size + 1);
-    if (text && fread(text, 1, (size_t)size, f) == (size_t)size) {
-        text[size] = '\0';
-    } else {
-        free(text);
-        text = NULL;
-    }
-    fclose(f);
-    return text;
-}
-
 /* Split text into its non-empty lines (in place); the number of lines. */
 static size_t split_lines(char *text, char **lines, size_t max)
 {
@@ -210,7 +191,7 @@ static int carried_python(const char *root, PythonPlace *place, char *err, size_
 {
     char path[PATH_MAX + 64];
     snprintf(path, sizeof path, "%s/" RUNTIME_FILE, root);
-    char *text = read_text(path);
+    char *text = read_text_file(path);
     if (!text) return 0;
     char *lines[2];
     size_t count = split_lines(text, lines, 2);

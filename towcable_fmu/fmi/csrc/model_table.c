@@ -13,7 +13,7 @@
 
 #define MAX_VALUE_REFERENCE 1000000u
 
-static char *read_file(const char *path)
+char *read_text_file(const char *path)
 {
     FILE *f = fopen(path, "rb");
     if (!f) return NULL;
@@ -125,7 +125,7 @@ int model_table_read(const char *root, ModelTable *table, char *err, size_t n)
     char path[4200];
     snprintf(path, sizeof path, "%s/resources/modelDescription.xml", root);
     memset(table, 0, sizeof *table);
-    char *text = read_file(path);
+    char *text = read_text_file(path);
     if (!text) {
         snprintf(err, n, "cannot read %s", path);
         return 0;

@@ -38,6 +38,9 @@ int model_table_read(const char *root, ModelTable *table, char *err, size_t n);
 /* The variable of this type and value reference, or NULL. */
 const Variable *model_table_find(const ModelTable *table, VariableType type, fmi2ValueReference vr);
 
+/* A whole text file in a new NUL-terminated buffer (NULL if it cannot be read). */
+char *read_text_file(const char *path);
+
 /* "Real", "Integer", ... */
 const char *type_name(VariableType type);
 
