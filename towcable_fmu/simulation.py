@@ -743,12 +743,14 @@ class Simulation(SimulationDriver):
         workspace and output scene (built again when one of them was replaced), its row
         of outputs and its saved state."""
         held = (self.model, self.options, self.state, self.workspace, self.output_scene)
-        if self._stepper is None or any(a is not b for a, b in zip(held, self._stepper[0])):
+        # (the ids of the objects held: they stay alive while held, so no other takes their id)
+        key = tuple(map(id, held))
+        if self._stepper is None or key != self._stepper[0]:
             rows = np.empty((1, len(OUTPUT_FIELDS)))
             saved = genalpha.IntegratorState(*(np.empty_like(x) for x in self.state))
             stepper = new_stepper(*held, _ALL_OUTPUTS, rows, np.zeros(1), np.zeros((1, 3, drive_poly.N_CHANNELS)),
                                   saved)
-            self._stepper = (held, stepper, rows, saved)
+            self._stepper = (key, stepper, rows, saved, held)
         return self._stepper[1], self._stepper[2], self._stepper[3]
 
     def _snapshot(self) -> tuple[genalpha.IntegratorState, dict[str, Any]]:

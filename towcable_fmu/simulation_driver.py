@@ -46,8 +46,8 @@ def checked_setpoint(setpoint: Iterable[float]) -> tuple[float, float]:
     SceneError
         If it is not two finite numbers.
     """
-    values = tuple(float(x) for x in setpoint)
-    if len(values) != 2 or not all(math.isfinite(x) for x in values):
+    values = tuple(map(float, setpoint))
+    if len(values) != 2 or not all(map(math.isfinite, values)):
         raise SceneError("setpoint", tuple(setpoint), "finite phi_sp [rad] and phi_sp_rate [rad/s]")
     return values
 
