@@ -4,8 +4,10 @@ The full-scale system (ShipMotion in the default sea -> HeaveCompensation with t
 simplified-sheave set-point -> TowCable ``full_scale``) run by the fmpy master
 (``towcable_fmu.cosim.run_cosim``) for 120 s at communication steps of 0.01 s (the
 issue's figure) and 0.02 s (the scene's own time step), three repeats each (medians).
-Overhead = the share of the loop's wall time spent outside the three models' own
-computations (FMI calls through ctypes and pythonfmu, the master's bookkeeping).
+Per communication step: the time in each model, in the slaves' Python glue (measured
+in-process, ``cosim_step.py``) and in the FMI calls and the master (the rest of the
+loop's wall time). Overhead = the share of the loop's wall time spent outside the three
+models' own computations.
 The standalone ``Simulation`` on the same scene and sea is given for comparison.
 
 Run: ``python benchmarks/cosim.py``; writes ``results/cosim.md``.
@@ -21,6 +23,7 @@ from common import RESULTS, machine_header, markdown_table
 DURATION = 120.0
 STEPS = (0.01, 0.02)
 REPEATS = 3
+FMUS = ("TowCable", "ShipMotion", "HeaveCompensation")
 
 
 def cosim(step: float) -> dict:
@@ -47,22 +50,30 @@ def standalone() -> float:
 
 
 def main() -> None:
+    from cosim_step import profile
+
     cosim(0.01)  # build the FMUs if needed and load the compiled kernels
+    glue = profile()  # the slaves' calls made in-process: model and Python glue per step
+    glue_us = 1e6 * sum(glue[f"{name}.calls"] - glue[f"{name}.model"] for name in FMUS)
     rows = []
     for step in STEPS:
         t = cosim(step)
-        rows.append([f"{step:g}", f"{t['realtime_factor']:.1f}", f"{t['wall']:.2f}", f"{t['model.TowCable']:.2f}",
-                     f"{t['model.ShipMotion']:.3f}", f"{t['model.HeaveCompensation']:.3f}",
-                     f"{1e6 * (t['wall'] - t['model']) / t['steps']:.1f}", f"{100 * t['overhead_share']:.1f}"])
+        n = t["steps"]
+        models = [1e6 * t[f"model.{name}"] / n for name in FMUS]
+        outside = 1e6 * (t["wall"] - t["model"]) / n
+        rows.append([f"{step:g}", f"{t['realtime_factor']:.1f}", f"{t['wall']:.2f}", *(f"{m:.1f}" for m in models),
+                     f"{outside:.1f}", f"{glue_us:.1f}", f"{outside - glue_us:.1f}", f"{100 * t['overhead_share']:.1f}"])
     alone = standalone()
     text = ["# Co-simulation: speed and FMU overhead\n", machine_header(),
             f"\nfull_scale in the default sea with the simplified-sheave set-point, {DURATION:g} s, fmpy master "
-            f"(`run_cosim`, compiled stepping loop), medians of {REPEATS} runs. 'outside' is the loop's wall "
-            "time outside the three models per communication step (the slaves' glue, pythonfmu's C layer, "
-            "the master); 'overhead' is 1 - (time in the three models) / (loop wall time).\n\n",
-            markdown_table(["communication step [s]", "x real time", "wall [s]", "TowCable model [s]",
-                            "ShipMotion model [s]", "HeaveCompensation model [s]", "outside [us/step]",
-                            "overhead [%]"],
+            f"(`run_cosim`, compiled stepping loop), medians of {REPEATS} runs. Per communication step: each FMU's "
+            "own model time; 'outside' the loop's wall time outside the three models, split into the slaves' "
+            "Python glue (their set/get/step methods around the models, measured in-process by "
+            "`cosim_step.py` at 0.01 s) and the rest: pythonfmu's and our C layer, ctypes and the master's "
+            "compiled loop. 'overhead' is 1 - (time in the three models) / (loop wall time).\n\n",
+            markdown_table(["communication step [s]", "x real time", "wall [s]", "TowCable [us/step]",
+                            "ShipMotion [us/step]", "HeaveCompensation [us/step]", "outside [us/step]",
+                            "slaves' glue [us/step]", "FMI calls + master [us/step]", "overhead [%]"],
                            rows),
             f"\nThe `Simulation` alone on the same scene, sea and set-point (recording every 0.1 s): "
             f"{alone:.1f} x real time.\n"]

@@ -27,16 +27,21 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from controllers.config import SetpointConfig
+from towcable_fmu.kernel_cache import njit
 from towcable_fmu.kinematics import ship_point_kinematics
 
+#: :func:`setpoint_law`'s codes of the methods (:attr:`SetpointConfig.method`).
+METHOD_CODES = {"none": 0, "sheave": 1, "waterline": 2}
 
-@dataclass(frozen=True)
-class Setpoint:
-    """Output of one set-point evaluation.
+
+class Setpoint(NamedTuple):
+    """Output of one set-point evaluation (a named tuple: made in a fraction of a
+    microsecond from :func:`setpoint_law`'s values).
 
     Attributes
     ----------
@@ -84,6 +89,64 @@ class SetpointSeries:
     rate_clipped: np.ndarray
 
 
+@njit(cache=True)
+def setpoint_law(ship: np.ndarray, law: np.ndarray, angle: float) -> tuple:
+    """One set-point of the module docstring's laws, compiled (the arithmetic of
+    :meth:`SetpointAlgorithm.compute_series` for one ship state, in the same order).
+
+    Parameters
+    ----------
+    ship
+        Ship state, shape (3, 6).
+    law
+        The algorithm (:meth:`SetpointAlgorithm.law`): the reference point in the ship
+        frame [m] (3), the :data:`METHOD_CODES` code, 1 for a rigorous algorithm (0 for a
+        simplified one), theta_nom [rad], the waterline height [m], the payout limit [m]
+        and the payout rate limit [m/s] (``max_winch_speed * winch_radius``; negative:
+        none), r_w [m] and phi_nom [rad].
+    angle
+        The measured sheave angle [rad] (NaN: not measured), used by a rigorous
+        algorithm if it is usable.
+
+    Returns
+    -------
+    tuple
+        phi_sp, phi_sp_rate, payout, payout_rate, theta_used, theta_fallback,
+        payout_clipped, rate_clipped (as :class:`Setpoint`).
+    """
+    s_ref = law[0:3]
+    method, rigorous, theta_nom, waterline_z = int(law[3]), law[4] != 0.0, law[5], law[6]
+    max_payout, max_rate, winch_radius, phi_nom = law[7], law[8], law[9], law[10]
+    theta, fallback = theta_nom, False
+    if rigorous:
+        if math.isfinite(angle) and abs(angle) < 0.5 * math.pi:
+            theta = angle
+        else:
+            fallback = True
+    payout, rate = 0.0, 0.0
+    if method != 0:
+        point = ship_point_kinematics(ship, s_ref)
+        if method == 1:
+            sin_t, cos_t = math.sin(theta), math.cos(theta)
+            payout = (point[0, 0] - s_ref[0]) * sin_t + (point[0, 2] - s_ref[2]) * cos_t
+            rate = point[1, 0] * sin_t + point[1, 2] * cos_t
+        else:
+            payout = (point[0, 2] - waterline_z) / math.cos(theta) - (s_ref[2] - waterline_z) / math.cos(theta_nom)
+            rate = point[1, 2] / math.cos(theta)
+    payout_clipped = False
+    if max_payout >= 0.0:
+        payout_clipped = abs(payout) > max_payout
+        payout = min(max(payout, -max_payout), max_payout)
+        if payout_clipped:
+            rate = 0.0
+    rate_clipped = False
+    if max_rate >= 0.0:
+        rate_clipped = abs(rate) > max_rate
+        rate = min(max(rate, -max_rate), max_rate)
+    return (phi_nom - payout / winch_radius, (0.0 - rate) / winch_radius,  # 0.0 - : no -0.0 output
+            payout, rate, theta, fallback, payout_clipped, rate_clipped)
+
+
 class SetpointAlgorithm:
     """Evaluate one set-point algorithm (stateless).
 
@@ -99,6 +162,12 @@ class SetpointAlgorithm:
                              "controllers.TensionControl")
         self.config = config
         self._s_ref = np.array(config.reference_point, dtype=np.float64)
+        max_rate = -1.0 if config.max_winch_speed is None else config.max_winch_speed * config.winch_radius
+        #: the algorithm as :func:`setpoint_law` takes it
+        self.law = np.array([*config.reference_point, METHOD_CODES[config.method], float(config.rigorous),
+                             config.theta_nom, config.waterline_z,
+                             -1.0 if config.max_payout is None else config.max_payout, max_rate,
+                             config.winch_radius, config.phi_nom], dtype=np.float64)
 
     def compute(self, ship: np.ndarray, sheave_angle: float | None = None) -> Setpoint:
         """Set-point for one ship state.
@@ -120,8 +189,7 @@ class SetpointAlgorithm:
         if ship.shape != (3, 6):
             raise ValueError(f"ship state must have shape (3, 6), got {ship.shape}")
         angle = math.nan if sheave_angle is None else float(sheave_angle)
-        values = self._evaluate(ship[np.newaxis], np.array([angle]))
-        return Setpoint(**{name: value[0].item() for name, value in values.items()})
+        return Setpoint(*setpoint_law(ship, self.law, angle))
 
     def compute_series(self, ships: np.ndarray,
                        angles: np.ndarray | None = None) -> SetpointSeries:

@@ -43,7 +43,6 @@ the set-point no larger than the difference of the intervals times the rate).
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from typing import Any, Mapping
 
@@ -110,7 +109,7 @@ class TensionControl:
             payout = min(max(payout, -cfg.max_payout), cfg.max_payout)
             rate = min(max(rate, (-cfg.max_payout - payout) / dt), (cfg.max_payout - payout) / dt)
         self.payout, self.rate = payout, rate
-        return dataclasses.replace(self.setpoint(), rate_clipped=rate != wanted)
+        return self.setpoint()._replace(rate_clipped=rate != wanted)
 
     def get_state(self) -> dict[str, float]:
         """The controller's state (JSON-able)."""

@@ -19,6 +19,8 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
+from towcable_fmu.kernel_cache import njit
+
 from .base import MotionSource, as_times
 from .ramp import modulate, ramp
 from .rao import GRAVITY, Rao
@@ -39,6 +41,93 @@ def _harmonic_sum(phasors: np.ndarray, weights: np.ndarray) -> np.ndarray:
     against 0.5 ms for 60 times and 200 components).
     """
     return np.einsum("...n,nj->...j", phasors, weights).real
+
+
+#: pi/2 in three parts (33, 33 and 53 significant bits): n * part is exact for |n| < 2^20
+_PIO2 = (1.57079632673412561417e+00, 6.07710050630396597660e-11, 2.02226624879595063154e-21)
+#: the reduction above is exact for arguments below this [rad] (larger ones: math.sin, math.cos)
+_REDUCE_MAX = 1.0e5
+#: Taylor-like minimax coefficients of sin(x)/x - 1 and cos(x) - 1 + x^2/2 on [-pi/4, pi/4] (fdlibm's)
+_SIN = (-1.66666666666666324348e-01, 8.33333333332248946124e-03, -1.98412698298579493134e-04,
+        2.75573137070700676789e-06, -2.50507602534068634195e-08, 1.58969099521155010221e-10)
+_COS = (4.16666666666666019037e-02, -1.38888888888741095749e-03, 2.48015872894767294178e-05,
+        -2.75573143513906633035e-07, 2.08757232129817482790e-09, -1.13596475577881948265e-11)
+
+
+@njit(cache=True, inline="always")
+def _sincos(x: float) -> tuple:
+    """(cos x, sin x) for |x| < _REDUCE_MAX, to about one unit in the last place: x reduced
+    by the nearest multiple n of pi/2, polynomials on [-pi/4, pi/4], the quadrant n mod 4.
+    Branch-free, so that a loop over many angles vectorises (libm's calls do not)."""
+    n = np.floor(x * 0.63661977236758134308 + 0.5)
+    r = ((x - n * _PIO2[0]) - n * _PIO2[1]) - n * _PIO2[2]
+    z = r * r
+    sin_r = r + r * z * (_SIN[0] + z * (_SIN[1] + z * (_SIN[2] + z * (_SIN[3] + z * (_SIN[4] + z * _SIN[5])))))
+    cos_r = 1.0 - 0.5 * z + z * z * (_COS[0] + z * (_COS[1] + z * (_COS[2] + z * (_COS[3] + z * (_COS[4]
+                                                                                          + z * _COS[5])))))
+    q = np.int64(n) & 3  # quadrant: (cos, sin) = (c, s), (-s, c), (-c, -s), (s, -c)
+    odd = (q & 1) == 1
+    c = (sin_r if odd else cos_r) * float(1 - ((q + 1) & 2))
+    s = (cos_r if odd else sin_r) * float(1 - (q & 2))
+    return c, s
+
+
+@njit(cache=True)
+def harmonic_state(t: float, table: np.ndarray, dofs: np.ndarray, ramp_time: float) -> np.ndarray:
+    """Ship state (3, 6) at one time: the ramped sum of harmonic components.
+
+    ``q_j(t) = f(t) Re sum_i H_ij exp(i (omega_i t + eps_i))`` and its first two time
+    derivatives for the columns ``dofs`` (the others are 0), with the ramp factor f of
+    :func:`ship_motion.ramp.ramp` applied by the product rule
+    (:func:`ship_motion.ramp.modulate`).
+
+    Parameters
+    ----------
+    t
+        Time [s].
+    table
+        Shape (2 + 2 len(dofs), N), one column per component: its encounter frequency
+        omega_i [rad/s], its phase eps_i [rad], then the real and imaginary parts of its
+        complex response H_ij [m, rad] for each column j of ``dofs``.
+    dofs
+        The columns of the state with a response (intp).
+    ramp_time
+        Ramp-in time [s] (0: none).
+    """
+    n = table.shape[1]
+    cos_e, sin_e = np.empty(n), np.empty(n)
+    largest = 0.0
+    for i in range(n):
+        largest = max(largest, abs(t * table[0, i] + table[1, i]))
+    if largest < _REDUCE_MAX:
+        for i in range(n):  # (vectorised: no call, no branch)
+            cos_e[i], sin_e[i] = _sincos(t * table[0, i] + table[1, i])
+    else:
+        for i in range(n):
+            arg = t * table[0, i] + table[1, i]
+            cos_e[i], sin_e[i] = math.cos(arg), math.sin(arg)
+    out = np.zeros((3, 6))
+    for k in range(dofs.shape[0]):
+        s0, s1, s2 = 0.0, 0.0, 0.0
+        for i in range(n):
+            w, h_re, h_im = table[0, i], table[2 + 2 * k, i], table[3 + 2 * k, i]
+            re = cos_e[i] * h_re - sin_e[i] * h_im
+            s0 += re
+            s1 -= w * (cos_e[i] * h_im + sin_e[i] * h_re)
+            s2 -= w * w * re
+        j = dofs[k]
+        out[0, j], out[1, j], out[2, j] = s0, s1, s2
+    if ramp_time > 0.0 and t < ramp_time:
+        x = min(max(t / ramp_time, 0.0), 1.0)
+        f0 = x ** 3 * (10.0 - 15.0 * x + 6.0 * x * x)
+        f1 = 30.0 * x * x * (1.0 - x) ** 2 / ramp_time
+        f2 = 60.0 * x * (1.0 - x) * (1.0 - 2.0 * x) / ramp_time ** 2
+        for j in range(6):
+            g0, g1, g2 = out[0, j], out[1, j], out[2, j]
+            out[0, j] = f0 * g0
+            out[1, j] = f1 * g0 + f0 * g1
+            out[2, j] = f2 * g0 + 2.0 * f1 * g1 + f0 * g2
+    return out
 
 
 class IrregularSea(MotionSource):
@@ -94,9 +183,13 @@ class IrregularSea(MotionSource):
         self.encounter_frequency = omega - omega ** 2 * self.speed * math.cos(self.heading) / GRAVITY
         #: Complex response amplitudes a_i H_j(omega_i), shape (N, 6).
         self.response = self.waves.amplitude[:, None] * rao(omega, self.heading, self.speed)
-        we = self.encounter_frequency
-        # d^k/dt^k of exp(i omega_e t), k = 0, 1, 2, as factors of the phasor, shape (3, N)
-        self._orders = np.stack([np.ones_like(we), 1j * we, -(we ** 2)]).astype(complex)
+        # the table of harmonic_state: the columns with a response only (the closed-form RAO
+        # has no surge, sway and yaw)
+        self._dofs = np.flatnonzero(np.any(self.response != 0.0, axis=0)).astype(np.intp)
+        parts = [self.encounter_frequency, self.waves.phase]
+        for j in self._dofs:
+            parts += [self.response[:, j].real, self.response[:, j].imag]
+        self._table = np.ascontiguousarray(np.vstack(parts), dtype=np.float64)
 
     def _phasors(self, times: np.ndarray) -> np.ndarray:
         return np.exp(1j * (np.outer(times, self.encounter_frequency) + self.waves.phase))
@@ -114,16 +207,12 @@ class IrregularSea(MotionSource):
         return modulate(ramp(times, self.ramp), signal).transpose(1, 0, 2)
 
     def evaluate(self, t: float) -> np.ndarray:
-        """Ship state (3, 6) at one time [s]: the sums of :meth:`evaluate_many` without batching
-        (one phasor per component, one product with the responses)."""
+        """Ship state (3, 6) at one time [s]: the sums of :meth:`evaluate_many` in one compiled
+        loop over the components (:func:`harmonic_state`)."""
         t = float(t)
         if not math.isfinite(t):
             raise ValueError("times must be finite")
-        e = np.exp(1j * (t * self.encounter_frequency + self.waves.phase))
-        signal = _harmonic_sum(self._orders * e, self.response)
-        if self.ramp > 0.0 and t < self.ramp:
-            return modulate(ramp(np.array([t]), self.ramp), signal[:, None, :])[:, 0, :]
-        return signal
+        return harmonic_state(t, self._table, self._dofs, self.ramp)
 
     def wave_elevation(self, t: ArrayLike) -> np.ndarray:
         """Undisturbed wave elevation [m] at the ship's CG (moving with it), not ramped.

@@ -53,10 +53,10 @@ def test_model_types_do_not_depend_on_the_scene(kind, least):
         assert types(name) == reference, name
 
 
-_WATCHED_RUN = """
+#: Start of a watched command: ``Watch()`` records the kernels numba compiles in ``compiled``.
+_WATCH = """
 import sys
 from numba.core import event
-from towcable_fmu import cli, parallel_compile
 
 compiled = []
 class Watch(event.Listener):
@@ -64,6 +64,10 @@ class Watch(event.Listener):
         compiled.append(ev.data["dispatcher"].py_func.__qualname__)
     def on_end(self, ev):
         pass
+"""
+
+_WATCHED_RUN = _WATCH + """
+from towcable_fmu import cli, parallel_compile
 ahead = parallel_compile.compile_kernels
 def compile_then_watch(*args, **kwargs):
     failures = ahead(*args, **kwargs)
@@ -171,3 +175,33 @@ def test_a_helper_that_dies_is_not_waited_for(tmp_path, monkeypatch):
     failures = compile_kernels(["dying_jobs"], workers=2)
     assert failures == ["lost: not compiled (helper exited with status 3)"]
     assert [job.cached() for job in dying_jobs.kernel_jobs()] == [True, True, True]  # lost: compiled for after
+
+
+_WATCHED_COSIM = _WATCH + """
+from towcable_fmu import cli
+from towcable_fmu.cosim import master
+advance = master._Exchange.advance
+def watched(self, k_start, k_stop, *args):
+    if k_stop > k_start and not getattr(master, "watching", False):  # the clock runs from the first step
+        master.watching = True
+        event.register("numba:compile", Watch())
+    return advance(self, k_start, k_stop, *args)
+master._Exchange.advance = watched
+rc = cli.main(sys.argv[1:])
+print("COMPILED WHILE TIMED:", sorted(set(compiled)))
+sys.exit(rc)
+"""
+
+
+def test_first_cosim_compiles_everything_before_its_clock_starts(tmp_path, fmu_paths):
+    """A cold kernel cache: ``towcable cosim`` compiles the cable's kernels, the master's
+    stepping loop and the light FMUs' kernels ahead, so that its timed loop (the progress
+    and the speed it reports) compiles nothing, of ours or numba's."""
+    env = dict(os.environ, TOWCABLE_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=str(ROOT))
+    fmus = Path(next(iter(fmu_paths.values()))).parent
+    command = [sys.executable, "-c", _WATCHED_COSIM, "cosim", "--duration", "0.1", "--compensation",
+               "simplified_sheave", "--fmus", str(fmus), "--output", str(tmp_path / "out"), "--no-plot"]
+    first = subprocess.run(command, env=env, capture_output=True, text=True, timeout=1200)
+    assert first.returncode == 0, first.stderr
+    assert "compiling the numerical kernels" in first.stderr
+    assert "COMPILED WHILE TIMED: []" in first.stdout, first.stdout

@@ -31,11 +31,16 @@ def _simulation(args: argparse.Namespace):
     return simulation_for(scene)
 
 
-def _compile_kernels(kind: str) -> None:
-    """Compile the kernels of a model kind on every core if they are not cached yet."""
+#: The co-simulation's own kernels (the light FMUs' models, the master's loop): compiled with the cable's.
+COSIM_KERNEL_SOURCES = ("towcable_fmu.input_kernels", "towcable_fmu.cosim.kernels")
+
+
+def _compile_kernels(kind: str, extra: tuple[str, ...] = ()) -> None:
+    """Compile the kernels of a model kind (and of the modules ``extra``) on every core if
+    they are not cached yet."""
     from .parallel_compile import compile_ahead
 
-    compile_ahead(KERNEL_SOURCES.get(kind, ()))
+    compile_ahead(KERNEL_SOURCES.get(kind, ()) + extra)
 
 
 def cmd_scenes(args: argparse.Namespace) -> int:
@@ -125,7 +130,7 @@ def cmd_cosim(args: argparse.Namespace) -> int:
     """Co-simulate ShipMotion -> HeaveCompensation -> TowCable through the FMUs (fmpy)."""
     from .cosim import CosimConfig, run_cosim, write_results
 
-    _compile_kernels(model_kind(load_scene(args.scene, _overrides(args.set))))
+    _compile_kernels(model_kind(load_scene(args.scene, _overrides(args.set))), COSIM_KERNEL_SOURCES)
     config = CosimConfig(scene=args.scene, overrides=_overrides(args.set), compensation=args.compensation,
                          duration=args.duration, step=args.step, motion=args.motion, winch_radius=args.winch_radius,
                          phi_nom=args.phi_nom, theta_nom=args.theta_nom,

@@ -16,9 +16,9 @@ Inputs: the 18 ``ship.*`` signals and ``winch.phi_sp``, ``winch.phi_sp_rate``.
 
 * ``exit_initialization_mode`` loads the scene, builds the Simulation and initialises it
   (statics) at the start time with the ship state and set-point inputs present then.
-* ``do_step(t, dt)`` calls ``Simulation.step(dt, ship, (phi_sp, phi_sp_rate))`` with the
-  inputs at ``t`` (the ship state is extrapolated with constant acceleration over the
-  step) and copies the outputs.
+* ``do_step(t, dt)`` calls ``Simulation.step_row(dt, ship, (phi_sp, phi_sp_rate))`` with
+  the inputs at ``t`` (the ship state is extrapolated with constant acceleration over the
+  step) and copies the outputs (an array: no dict per step).
 * Outputs the Simulation does not produce for the scene (for instance ``tension.sheave``,
   ``contact.*`` and ``sheave_angle`` without a sheave, ``winch.*`` without a winch, or
   ``towbody.*`` without a towed body) are 0 (false); the list is logged at initialisation.
@@ -31,8 +31,10 @@ Inputs: the 18 ``ship.*`` signals and ``winch.phi_sp``, ``winch.phi_sp_rate``.
 
 from __future__ import annotations
 
+import operator
 from typing import Any
 
+import numpy as np
 from pythonfmu.enums import Fmi2Status
 
 from .errors import SceneError
@@ -62,6 +64,7 @@ class TowCable(ContractSlave):
         super().__init__(**kwargs)
         self.sim = None
         self.missing: list[str] = []
+        self._row_copy: _RowCopy | None = None
         self._built_from: tuple | None = None
         self._ship = ShipStateReader()
 
@@ -85,6 +88,7 @@ class TowCable(ContractSlave):
         self._build()
         out = self.timed(self.sim.initialize, self.start_time, ship, setpoint)
         self.missing = self.set_outputs(out)
+        self._row_copy = _RowCopy(self.sim.names, self._output_slots)
         kind = model_kind(self.sim.scene)
         parts = {"ancf": "ANCF elements", "nodal_position": "nodal-position elements", "rigid_link": "rigid links"}
         self.log(f"{self.instance_name}: scene '{self.values['scene']}' ({self.sim.scene.title}); "
@@ -100,19 +104,16 @@ class TowCable(ContractSlave):
         now = self.sim.time  # t, to 1e-9 (ContractSlave.do_step)
         try:
             ship, setpoint = self._inputs()
-            # step to t + dt exactly: the model time follows the master's clock
-            out = self.timed(self.sim.step, (t + dt) - now, ship, setpoint)
+            # step to t + dt exactly: the model time follows the master's clock; the row's
+            # outputs are finite (else the step fails and the state is unchanged)
+            row = self.timed(self.sim.step_row, (t + dt) - now, ship, setpoint)
         except (SceneError, ArithmeticError, ValueError) as exc:
             self.log_error(f"step from t = {t:.6g} s by {dt:.6g} s refused: {exc}", Fmi2Status.discard)
             return False
         except Exception as exc:  # SolverError and anything unexpected: the state is unchanged
             self.log_error(f"step from t = {t:.6g} s by {dt:.6g} s failed: {exc}", Fmi2Status.discard)
             return False
-        try:
-            self.set_outputs(out)
-        except ValueError as exc:  # nothing copied: the outputs keep their last valid values
-            self.log_error(f"non-finite outputs at t = {t + dt:.6g} s: {exc}", Fmi2Status.discard)
-            return False
+        self._row_copy(row, self.values)
         return True
 
     def _model_state(self) -> Any:
@@ -123,3 +124,43 @@ class TowCable(ContractSlave):
             self._build()
         self.sim.set_state(data["simulation"])
         self.missing = list(data["missing"])
+        self._row_copy = _RowCopy(self.sim.names, self._output_slots)
+
+
+class _RowCopy:
+    """Copies a step's outputs (:meth:`~towcable_fmu.simulation_driver.SimulationDriver.step_row`,
+    in the order of the Simulation's ``names``) into the FMU's values, as
+    :meth:`~towcable_fmu.fmi.slave.ContractSlave.set_outputs` copies the named outputs
+    (worked out once per model; the outputs the scene does not model keep the zeros set at
+    initialisation).
+
+    Parameters
+    ----------
+    names
+        The Simulation's output names (the row's order).
+    slots
+        The FMU's outputs: (name, cast, is Real).
+    """
+
+    def __init__(self, names: tuple[str, ...], slots: list[tuple[str, Any, bool]]) -> None:
+        position = {name: k for k, name in enumerate(names)}
+        reals = [(name, position[name]) for name, _, real in slots if real and name in position]
+        self._real_names = tuple(name for name, _ in reals)
+        self._pick = values_getter_at(tuple(k for _, k in reals))
+        self._others = tuple((name, cast, position[name]) for name, cast, real in slots
+                             if not real and name in position)
+
+    def __call__(self, row: np.ndarray, values: dict[str, Any]) -> None:
+        """Copy ``row`` into ``values`` (name -> value)."""
+        items = row.tolist()
+        values.update(zip(self._real_names, self._pick(items)))
+        for name, cast, k in self._others:
+            values[name] = cast(items[k])
+
+
+def values_getter_at(positions: tuple[int, ...]):
+    """A function returning the items at ``positions`` of a list as a tuple (one C-level
+    ``itemgetter`` for two or more)."""
+    if len(positions) >= 2:
+        return operator.itemgetter(*positions)
+    return lambda items: tuple(items[k] for k in positions)

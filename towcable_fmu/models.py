@@ -21,8 +21,8 @@ def model_kind(scene: Any) -> str:
 
 #: Modules listing each model's kernels (``kernel_jobs()``, see
 #: :mod:`towcable_fmu.parallel_compile`); a model not listed compiles as it runs.
-KERNEL_SOURCES = {"ancf": ("towcable_fmu.simulation_kernels",),
-                  "nodal_position": ("towcable_fmu.nodal.simulation_kernels",)}
+KERNEL_SOURCES = {"ancf": ("towcable_fmu.simulation_kernels", "towcable_fmu.input_kernels"),
+                  "nodal_position": ("towcable_fmu.nodal.simulation_kernels", "towcable_fmu.input_kernels")}
 
 
 def simulation_from(name_or_path: str | Path,

@@ -89,9 +89,10 @@ class Job:
 
 
 def load_jobs(sources: Iterable[str]) -> list[Job]:
-    """The jobs of each source ``"package.module"`` (its ``kernel_jobs()``), in order."""
+    """The jobs of each source ``"package.module"`` (its ``kernel_jobs()``), in order (a
+    source listed twice, by two model kinds, once)."""
     jobs: list[Job] = []
-    for source in sources:
+    for source in dict.fromkeys(sources):
         jobs.extend(importlib.import_module(source).kernel_jobs())
     return jobs
 

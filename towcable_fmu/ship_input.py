@@ -30,6 +30,6 @@ def check_ship_state(ship: np.ndarray) -> None:
     (value, rate, acceleration of x, y, z [m], roll, pitch, yaw [rad])."""
     if ship.shape != (3, 6):
         raise SceneError("ship", f"array of shape {ship.shape}", "an array of shape (3, 6)")
-    if not np.all(np.isfinite(ship)):
+    if not np.isfinite(ship).all():
         bad = np.argwhere(~np.isfinite(ship))[0]
         raise SceneError(f"ship[{bad[0]}, {bad[1]}]", float(ship[bad[0], bad[1]]), "a finite number")

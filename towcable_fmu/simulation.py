@@ -8,7 +8,7 @@ and the benchmarks all drive this same object.
 from __future__ import annotations
 
 import math
-from typing import Any, Iterable, Mapping
+from typing import Any, Iterable, Mapping, NamedTuple
 
 import numpy as np
 
@@ -35,6 +35,7 @@ from .scene.model import Scene
 from .ship_input import check_ship_state, motion_source
 from .winch_program import program_setpoints
 from .simulation_driver import SimulationDriver
+from .stepper import new_stepper, save_state, step_to
 
 #: Outputs of a scene with a rigid load held by the cable (``[load]``), see :meth:`Simulation._load_outputs`.
 LOAD_OUTPUTS = ("tension.load", "load.angle", "energy.load")
@@ -59,6 +60,15 @@ def solver_options(scene: Scene) -> genalpha.SolverOptions:
                                   jac_max_age=s.jacobian_max_age, h_min=s.min_time_step,
                                   winch_kp=0.0 if w is None else w.kp, winch_kd=0.0 if w is None else w.kd,
                                   locate_events=s.locate_events)
+
+
+class TaylorDrive(NamedTuple):
+    """The drive of an FMU step: the ship state and winch set-point at the step's start,
+    extrapolated (:func:`towcable_fmu.drive.taylor_drive`, without building its table)."""
+
+    t0: float              #: the step's start [s]
+    ship: np.ndarray       #: ship state (3, 6) at t0
+    setpoint: tuple[float, float]  #: phi_sp [rad], phi_sp_rate [rad/s] at t0
 
 
 class Simulation(SimulationDriver):
@@ -128,6 +138,8 @@ class Simulation(SimulationDriver):
         #: all outputs at the state a step reached, recorded by the step's own kernel call
         #: (one call from Python per FMU step instead of two), with the state's fingerprint
         self._stepped: tuple[tuple, np.ndarray] | None = None
+        #: the Stepper of the FMU's steps (:mod:`towcable_fmu.stepper`) with what it holds
+        self._stepper: tuple | None = None
         rigid = bool(self.model.terms.rigid_link.enabled)
         #: The outputs this scene has (names in docs/design.md), see :meth:`outputs`.
         self.layout = OutputLayout(towbody=scene.towbody is not None, winch=scene.winch is not None,
@@ -323,8 +335,9 @@ class Simulation(SimulationDriver):
             raise SceneError(name, "non-finite values", "finite coordinates and velocities")
         return x
 
-    def _integrate_to(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> None:
-        """Integrate to ``t_end`` [s] with the drive table (the caller rolls back on failure).
+    def _integrate_to(self, t_end: float, drive: tuple[np.ndarray, np.ndarray] | TaylorDrive) -> None:
+        """Integrate to ``t_end`` [s] with the drive table, or the one knot of a
+        :class:`TaylorDrive` (the caller rolls back on failure).
 
         Raises
         ------
@@ -350,11 +363,13 @@ class Simulation(SimulationDriver):
         return (f"; the rigid body's pitch is {pitch:.4g} rad, its Euler angles are singular at +-pi/2"
                 if abs(math.cos(pitch)) < 0.1 else "")
 
-    def _integrate(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> int:
+    def _integrate(self, t_end: float, drive: tuple[np.ndarray, np.ndarray] | TaylorDrive) -> int:
         """genalpha.advance to t_end; with wake oscillators, one solver step at a time with the
         staggered coupling of :mod:`towcable_fmu.viv.coupling`. Returns the solver status."""
         if self.viv is None:
             return self._step_to(t_end, drive)
+        if isinstance(drive, TaylorDrive):
+            drive = drive_poly.taylor_drive(*drive)
         st = self.state
         while self.time < t_end - 1e-12 * max(1.0, abs(t_end)):
             t = self.time
@@ -380,7 +395,8 @@ class Simulation(SimulationDriver):
         t0 = self.time
         if not (math.isfinite(t_end) and t_end > t0):
             raise SceneError("t_end", t_end, f"a finite time > {t0:g} s")
-        return self._guarded(lambda: self._integrate_to(t_end, self._drive(np.array([t0, t_end]), self.options.h_max)))
+        return self._named(self._guarded(
+            lambda: self._integrate_to(t_end, self._drive(np.array([t0, t_end]), self.options.h_max))))
 
     def _setpoints_at(self, times: np.ndarray, ships: np.ndarray) -> np.ndarray:
         """The drive table's winch set-points: a compensating scene's algorithm at the knots,
@@ -432,7 +448,7 @@ class Simulation(SimulationDriver):
             setpoint = tuple(self._program_setpoints(np.array([t0]))[0])
         if setpoint is not None:
             self._setpoint = setpoint
-        self._integrate_to(t0 + dt, drive_poly.taylor_drive(t0, ship, self._setpoint))
+        self._integrate_to(t0 + dt, TaylorDrive(t0, ship, self._setpoint))
 
     def split_element(self, element: int, xi: float = 0.5) -> dict[str, float]:
         """Split element ``element`` at normalised position ``xi`` in (0, 1) during a run,
@@ -693,10 +709,13 @@ class Simulation(SimulationDriver):
                           Recording(self.output_scene, _ALL_OUTPUTS, rows, False, False, self.time))
         return rows[0]
 
-    def _step_to(self, t_end: float, drive: tuple[np.ndarray, np.ndarray]) -> int:
+    def _step_to(self, t_end: float, drive: tuple[np.ndarray, np.ndarray] | TaylorDrive) -> int:
         """genalpha.advance to t_end through advance_recording, which also records all outputs
         there (kept for :meth:`_output_array`; not with wake oscillators, whose coupling
-        changes the loads after the step); the solver status."""
+        changes the loads after the step); the solver status. A :class:`TaylorDrive` (an
+        FMU step) goes through the model's :class:`~towcable_fmu.stepper.Stepper`."""
+        if isinstance(drive, TaylorDrive):
+            return self._step_taylor(t_end, drive)
         keep = self.viv is None
         rows = np.empty((1, len(OUTPUT_FIELDS))) if keep else _NO_ROWS
         while True:  # (a spool end's fed element is split or merged between steps)
@@ -707,6 +726,39 @@ class Simulation(SimulationDriver):
                 break
         self._stepped = (self._fingerprint(), rows[0]) if keep and reached == 1 else None
         return genalpha.OK if reached == 1 else genalpha.FAILED_MIN_STEP
+
+    def _step_taylor(self, t_end: float, drive: TaylorDrive) -> int:
+        """:meth:`_step_to` with the one knot of an FMU step, in one compiled call
+        (:func:`towcable_fmu.stepper.step_to`) that does not unbox the model."""
+        while True:  # (a spool end's fed element is split or merged between steps)
+            stepper, rows, _ = self._current_stepper()
+            reached = step_to(stepper, t_end, drive.t0, drive.ship, drive.setpoint[0], drive.setpoint[1])
+            if reached == 1 or not self._follow_feed():
+                break
+        self._stepped = (self._fingerprint(), rows[0]) if reached == 1 else None
+        return genalpha.OK if reached == 1 else genalpha.FAILED_MIN_STEP
+
+    def _current_stepper(self) -> tuple[Any, np.ndarray, genalpha.IntegratorState]:
+        """The :class:`~towcable_fmu.stepper.Stepper` of the current model, options, state,
+        workspace and output scene (built again when one of them was replaced), its row
+        of outputs and its saved state."""
+        held = (self.model, self.options, self.state, self.workspace, self.output_scene)
+        # (the ids of the objects held: they stay alive while held, so no other takes their id)
+        key = tuple(map(id, held))
+        if self._stepper is None or key != self._stepper[0]:
+            rows = np.empty((1, len(OUTPUT_FIELDS)))
+            saved = genalpha.IntegratorState(*(np.empty_like(x) for x in self.state))
+            stepper = new_stepper(*held, _ALL_OUTPUTS, rows, np.zeros(1), np.zeros((1, 3, drive_poly.N_CHANNELS)),
+                                  saved)
+            self._stepper = (key, stepper, rows, saved, held)
+        return self._stepper[1], self._stepper[2], self._stepper[3]
+
+    def _snapshot(self) -> tuple[genalpha.IntegratorState, dict[str, Any]]:
+        """The state arrays, copied by one compiled call into the Stepper's saved state, and
+        the extra state."""
+        stepper, _, saved = self._current_stepper()
+        save_state(stepper)
+        return saved, self._extra_state()
 
     def _fingerprint(self) -> tuple:
         """What identifies the state a step reached: its time and the solver counters."""

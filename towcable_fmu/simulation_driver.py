@@ -46,8 +46,8 @@ def checked_setpoint(setpoint: Iterable[float]) -> tuple[float, float]:
     SceneError
         If it is not two finite numbers.
     """
-    values = tuple(float(x) for x in setpoint)
-    if len(values) != 2 or not all(math.isfinite(x) for x in values):
+    values = tuple(map(float, setpoint))
+    if len(values) != 2 or not all(map(math.isfinite, values)):
         raise SceneError("setpoint", tuple(setpoint), "finite phi_sp [rad] and phi_sp_rate [rad/s]")
     return values
 
@@ -199,6 +199,18 @@ class SimulationDriver:
         SolverError
             If the step fails; the state is then left as it was before the call.
         """
+        return self._named(self.step_row(dt, ship, setpoint))
+
+    def step_row(self, dt: float, ship: np.ndarray | None = None,
+                 setpoint: tuple[float, float] | None = None) -> np.ndarray:
+        """:meth:`step` with the outputs as an array in the order of :attr:`names` (without
+        ``time``): what an FMU copies at every step, without building a dict.
+
+        Raises
+        ------
+        SceneError, SolverError
+            As :meth:`step`.
+        """
         self._require_initialized()
         dt = checked_step(dt)
         if ship is None and self.NEEDS_SHIP:
@@ -207,8 +219,9 @@ class SimulationDriver:
         setpoint = None if setpoint is None else checked_setpoint(setpoint)
         return self._guarded(lambda: self._advance(dt, ship, setpoint))
 
-    def _guarded(self, advance: Callable[[], None]) -> dict[str, float]:
-        """Run ``advance``; the outputs after it, or the state rolled back and the error raised."""
+    def _guarded(self, advance: Callable[[], None]) -> np.ndarray:
+        """Run ``advance``; the outputs after it (:meth:`_output_row`), or the state rolled back
+        and the error raised."""
         saved = self._snapshot()
         try:
             advance()
@@ -218,7 +231,7 @@ class SimulationDriver:
         except SolverError:
             self._restore(saved)
             raise
-        return self._named(row)
+        return row
 
     def _drive(self, marks: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
         """Drive table of the scene's ship motion (``self.motion``) through the times

@@ -29,6 +29,7 @@ from .output_kernel import Recording, advance_recording, output_values
 from .parallel_compile import Job
 from .rigid_body import tow_point_state
 from .simulation import _ALL_OUTPUTS, _NO_DRIVE, Simulation
+from .stepper import new_stepper, save_state, step_to
 
 #: The scene whose model supplies the argument types.
 REFERENCE_SCENE = "full_scale"
@@ -108,6 +109,16 @@ def _advance_recording() -> tuple:
             Recording(s.output_scene, _ALL_OUTPUTS, np.zeros((1, _ALL_OUTPUTS.size)), True, True, 1.0))
 
 
+def _new_stepper() -> tuple:
+    s = _reference()
+    return (s.model, s.options, s.state, s.workspace, s.output_scene, _ALL_OUTPUTS,
+            np.zeros((1, _ALL_OUTPUTS.size)), np.zeros(1), np.zeros((1, 3, 7)), genalpha.new_state(s.model))
+
+
+def _step_to() -> tuple:
+    return new_stepper(*_new_stepper()), 1.0, 0.0, np.zeros((3, 6)), 0.0, 0.0
+
+
 def _band(with_rhs: bool) -> tuple:
     s = _reference()
     ws, m = s.workspace, s.model
@@ -168,4 +179,7 @@ def kernel_jobs() -> list[Job]:
             lambda: (np.zeros((3, 6)), np.zeros(3)), 0.8),
         Job("ancf.advance_recording", advance_recording, _advance_recording, 6.8,
             ("ancf.advance", "ancf.output_values")),
+        Job("stepper.new_stepper", new_stepper, _new_stepper, 1.5),
+        Job("stepper.step_to", step_to, _step_to, 2.0, ("stepper.new_stepper", "ancf.advance_recording")),
+        Job("stepper.save_state", save_state, lambda: (new_stepper(*_new_stepper()),), 1.0, ("stepper.new_stepper",)),
     ]

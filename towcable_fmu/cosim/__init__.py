@@ -31,14 +31,15 @@ HeaveCompensation, whose ``theta_nom`` defaults to the cable's departure angle a
 static angle, as Westin 2018 used for the simplified algorithms).
 
 Overhead: each FMU reports ``model_wall_time``, the wall time spent in its own model
-(Simulation.step, MotionSource.evaluate, SetpointAlgorithm.compute). The FMU overhead
+(Simulation.step_row, MotionSource.evaluate, SetpointAlgorithm.compute). The FMU overhead
 is the rest of the loop's wall time (the slaves' Python glue around their models,
 pythonfmu's C layer, the master's loop) as a share of the loop's wall time.
 
 Modules, one concern each: :mod:`.instance` (one FMU: instantiate, log, values, step),
 :mod:`.config` (what to run, the result, the compensation geometry), :mod:`.master` (the
-loop over communication points), :mod:`.loop` (its compiled part), :mod:`.results` (the
-files). The TOML formatting of overrides is :func:`towcable_fmu.scene.format_overrides`.
+loop over communication points), :mod:`.loop` (its compiled part), :mod:`.kernels` (the
+kernels compiled ahead with the cable's), :mod:`.results` (the files). The TOML
+formatting of overrides is :func:`towcable_fmu.scene.format_overrides`.
 """
 
 from .config import CosimConfig, CosimResult, compensation_geometry

@@ -235,6 +235,9 @@ def _run(config: CosimConfig, inst: dict[str, FmuInstance], order: list[str], pa
     model_slot = {name: io.buffers.out_off[io.index[name]] + inst[name].real_outputs.index("model_wall_time")
                   for name in order}
     model_start = {name: float(io.outputs[slot]) for name, slot in model_slot.items()}
+    # no step (0 to 0, no last row): the loop's kernel loaded, or compiled if not cached,
+    # before the clock starts
+    io.advance(0, 0, False, t0, h, stride, 0, rec_time, rec_outputs, rec_bool)
     loop_start = time.perf_counter()
     k, row, chunk = 0, 0, 1
     if progress is not None:
