@@ -4,7 +4,8 @@ Runs the benchmark scripts one after another, each in its own process (the machi
 two cores and wall time is what is measured: nothing else should run meanwhile):
 core (hanging cable), hydro (kernel costs, statics), full_scale (work-precision with
 ship motion), full_scale_deploy (deploy and recovery: work-precision, cost against
-deployed length), snapping (ours and the peers MoorDyn and Exudyn, if installed), profile
+deployed length), snapping (ours and the peers MoorDyn and Exudyn, if installed: each code's
+front), snapping_physics (our converged runs against MoorDyn's, one difference at a time), profile
 (where the time goes, scene by scene), cosim (the three FMUs, FMU overhead), bounds
 (the fastest one Newton iteration per step could go, against the snapping and cosim targets),
 fmu_start (TowCable's instantiate + initialise, warm and cold), sea_trial_turn
@@ -27,6 +28,7 @@ from pathlib import Path
 HERE = Path(__file__).parent
 SCRIPTS = {"core": "core.py", "hydro": "hydro.py", "full_scale": "full_scale.py",
            "full_scale_deploy": "full_scale_deploy.py", "snapping": "snapping.py",
+           "snapping_physics": "snapping_physics.py",
            "profile": "profile_scenes.py", "cosim": "cosim.py", "bounds": "bounds.py", "fmu_start": "fmu_start.py",
            "sea_trial_turn": "sea_trial_turn.py", "defaults": "defaults.py", "first_run": "first_run.py"}
 

@@ -51,27 +51,27 @@ def test_trapezoid_weights_integrate_length():
 class AxialElement:
     """One element's axial force with the package's Gauss quadrature."""
 
-    def __init__(self, L: float, ea: float, tension_only: bool = False):
+    def __init__(self, L: float, ea: float, tension_only: bool = False, engineering: bool = False):
         gx, gw = element.gauss_legendre(5)
         self.work = axial_work(element.shape_derivatives(gx, 1.0), gw)
         at_length(self.work, L)
-        self.L, self.ea, self.tension_only = L, ea, tension_only
+        self.L, self.ea, self.tension_only, self.engineering = L, ea, tension_only, engineering
 
     def force(self, x):
         f = np.zeros(12)
-        energy, _ = axial_force(x, 0, self.L, self.ea, self.tension_only, self.work, f)
+        energy, _ = axial_force(x, 0, self.L, self.ea, self.tension_only, self.engineering, self.work, f)
         return f, energy
 
     def tangent(self, x):
         k = np.zeros((12, 12))
-        axial_tangent(x, 0, self.L, self.ea, self.tension_only, self.work, 1.0, k)
+        axial_tangent(x, 0, self.L, self.ea, self.tension_only, self.engineering, self.work, 1.0, k)
         return k
 
     def taut(self, x):
         """The taut Gauss points' bit masks the force and the tangent report."""
         f, k = np.zeros(12), np.zeros((12, 12))
-        return (axial_force(x, 0, self.L, self.ea, self.tension_only, self.work, f)[1],
-                axial_tangent(x, 0, self.L, self.ea, self.tension_only, self.work, 1.0, k))
+        return (axial_force(x, 0, self.L, self.ea, self.tension_only, self.engineering, self.work, f)[1],
+                axial_tangent(x, 0, self.L, self.ea, self.tension_only, self.engineering, self.work, 1.0, k))
 
     def strain(self, x, xi):
         dn = element.shape_derivatives(np.array([xi]), 1.0)
@@ -84,10 +84,11 @@ def _random_element(rng, L):
     return np.array([0, 0, 0, 1, 0, 0, L, 0, 0, 1, 0, 0.0]) + 0.1 * rng.normal(size=12)
 
 
+@pytest.mark.parametrize("engineering", [False, True])
 @pytest.mark.parametrize("tension_only", [False, True])
-def test_axial_force_is_gradient_of_energy_and_tangent_is_its_jacobian(tension_only):
+def test_axial_force_is_gradient_of_energy_and_tangent_is_its_jacobian(tension_only, engineering):
     rng = np.random.default_rng(3)
-    el = AxialElement(2.0, 1e5, tension_only)
+    el = AxialElement(2.0, 1e5, tension_only, engineering)
     x = _random_element(rng, 2.0)
     f, _ = el.force(x)
     h = 1e-6
@@ -128,6 +129,28 @@ def test_uniform_stretch_gives_green_strain_and_end_forces():
     assert f[0] == pytest.approx(-ea * eps * lam, rel=1e-12)
     assert f[6] == pytest.approx(ea * eps * lam, rel=1e-12)
     assert energy == pytest.approx(0.5 * ea * eps**2 * L, rel=1e-12)
+
+
+def test_kelvin_voigt_law_on_a_stretching_straight_element():
+    """The snapping case's law N = EA (lambda - 1) + BA d(eps)/dt on a uniformly stretched
+    straight element moving at a uniform strain rate: the elastic end forces are
+    EA (lambda - 1) (engineering strain; the Green law gives EA eps_G lambda, larger by
+    3 (lambda - 1) / 2 to first order) and the Rayleigh damping W(55), C v, gives the end
+    forces BA d(eps)/dt, the slope rows nothing."""
+    L, ea, lam, ba, rate = 2.0, 1e5, 1.004, 10.0, 0.37
+    el = AxialElement(L, ea, engineering=True)
+    x = np.array([0, 0, 0, lam, 0, 0, lam * L, 0, 0, lam, 0, 0])
+    f, energy = el.force(x)
+    assert f[6] == pytest.approx(ea * (lam - 1.0), rel=1e-12)
+    assert f[0] == pytest.approx(-ea * (lam - 1.0), rel=1e-12)
+    assert energy == pytest.approx(0.5 * ea * (lam - 1.0) ** 2 * L, rel=1e-12)
+    green, _ = AxialElement(L, ea).force(x)
+    assert green[6] / f[6] - 1.0 == pytest.approx(1.5 * (lam - 1.0), rel=2e-3)
+    # the element stretches at d(lambda)/dt = rate: the far end moves at rate L, slopes at rate
+    v = np.array([0, 0, 0, rate, 0, 0, rate * L, 0, 0, rate, 0, 0])
+    damping = np.kron(element.damping_matrix(L, ba), np.eye(3)) @ v
+    np.testing.assert_allclose(damping[[0, 6]], [-ba * rate, ba * rate], rtol=1e-12)
+    np.testing.assert_allclose(np.delete(damping, [0, 6]), 0.0, atol=1e-12 * ba * rate)
 
 
 def _arc_element(radius: float, angle: float) -> np.ndarray:

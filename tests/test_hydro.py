@@ -12,8 +12,8 @@ from scipy.optimize import brentq
 
 from reference import steady_tow as ref_tow
 from towcable_fmu.ancf.system import iteration_matrix, residual
-from towcable_fmu.hydro.loading import (BARE, FAIRED, SUN_BARE, SUN_FAIRED, drag_coefficient, drag_coefficient_slope,
-                                        loading_functions, loading_slopes)
+from towcable_fmu.hydro.loading import (BARE, FAIRED, NORMAL_TANGENTIAL, SUN_BARE, SUN_FAIRED, drag_coefficient,
+                                        drag_coefficient_slope, loading_functions, loading_slopes)
 from towcable_fmu.hydro.turbulence import TurbulenceSeries
 from towcable_fmu.scene import scene_from_table
 from towcable_fmu.scene.model import Turbulence
@@ -421,14 +421,22 @@ def test_newton_with_the_assembled_jacobian_converges(scene):
     assert norms[4] < 1e-3 * norms[0]
 
 
-@pytest.mark.parametrize("scene, t_run, h", [("full_scale", 0.5, 0.05), ("snapping_cable", 0.05, 5e-4),
-                                             ("flume", 0.1, 2e-3)])
-def test_iteration_matrix_water_part_matches_central_differences_of_the_residual(scene, t_run, h):
+#: snapping_cable with the bare-cable loading functions and a constant C_D (its kink along the
+#: flow is a cone, whose central differences converge to the tangent's mean); its own
+#: normal/tangential drag, rho d C_D |V_n| V_n / 2 along the flow, has central differences
+#: off by O(step) there, checked point by point in the drag tests instead
+SNAP_BARE = {"cable.segments[0].loading": "bare", "cable.segments[0].tangential_drag_coefficient": None}
+
+
+@pytest.mark.parametrize("scene, t_run, h, overrides", [("full_scale", 0.5, 0.05, {}),
+                                                        ("snapping_cable", 0.05, 5e-4, SNAP_BARE),
+                                                        ("flume", 0.1, 2e-3, {})])
+def test_iteration_matrix_water_part_matches_central_differences_of_the_residual(scene, t_run, h, overrides):
     """In a running scene, the part of the iteration matrix ``M + cv C + cq K`` that the water
     adds (the matrix minus that of the same state with the water disabled: cable and body
     hydrodynamics) against central differences of the residual's water part.
     full_scale: bare and faired cable, C_D(Re), G = 3.54, a cable crossing the surface;
-    snapping_cable: constant C_D; flume: a current varying with depth, turbulence.
+    snapping_cable (with SNAP_BARE): constant C_D; flume: a current varying with depth, turbulence.
 
     * As Newton uses it: a + da, v + cv da, q + cq da with the integrator's weights at
       step h (cv = h/2, cq = h^2/4) and a position change of 1e-8 m (smaller and round-off
@@ -448,7 +456,7 @@ def test_iteration_matrix_water_part_matches_central_differences_of_the_residual
     4 % of K's largest entry) and, in the depth-varying current, the body's rows (its
     tangent, hydro/towbody.py, leaves out the depth derivative of the current).
     """
-    sim = Simulation.from_scene(scene)
+    sim = Simulation.from_scene(scene, overrides)
     sim.initialize()
     sim.run(t_run)
     m = sim.model
@@ -504,7 +512,7 @@ def _water(kind=CURRENT_NONE, v0=(0.0, 0.0, 0.0), grad=(0.0, 0.0, 0.0), turb=Non
 
 def _load(w, kind, g_amp, cm=1.0, v=(0.0, 0.0, 0.0), a=(0.0, 0.0, 0.0), t=0.0, cd=0.0):
     """Kernel load per unit length minus the buoyancy rho A g e_z (checked separately)."""
-    section = Section(int(kind), D_CAB, AREA, float(cd), float(g_amp), float(cm))
+    section = Section(int(kind), D_CAB, AREA, float(cd), float(g_amp), float(cm), 0.0)
     v, a = (tuple(float(x) for x in vec) for vec in (v, a))
     f = np.array(point_load(w, section, float(t), DEPTH_Z, tuple(float(x) for x in SLOPE), v, a))
     f[2] -= RHO * AREA * G
@@ -709,12 +717,16 @@ def _near_kink(kind, eta):
             or (kind == SUN_FAIRED and abs(eta - math.pi / 6) < KINK_MARGIN))
 
 
-def _drag_at(kind, cd, rel, u):
-    return np.array(drag(RHO, MU_W, kind, D_CAB, cd, *map(float, rel), *map(float, u)))
+#: tangential C_Dt of the normal/tangential drag in the drag tests (the other kinds ignore it)
+CDT = 0.05
 
 
-def _drag_jac_at(kind, cd, rel, u):
-    f, dv, du = drag_jacobian(RHO, MU_W, kind, D_CAB, cd, *map(float, rel), *map(float, u))
+def _drag_at(kind, cd, rel, u, cdt=CDT):
+    return np.array(drag(RHO, MU_W, kind, D_CAB, cd, cdt, *map(float, rel), *map(float, u)))
+
+
+def _drag_jac_at(kind, cd, rel, u, cdt=CDT):
+    f, dv, du = drag_jacobian(RHO, MU_W, kind, D_CAB, cd, cdt, *map(float, rel), *map(float, u))
     return np.array(f), np.array(dv).reshape(3, 3), np.array(du).reshape(3, 3)
 
 
@@ -733,8 +745,24 @@ def _drag_central_differences(kind, cd, rel, u):
     return dv, du @ (np.eye(3) - np.outer(u, u))
 
 
-@pytest.mark.parametrize("kind", [BARE, FAIRED, SUN_BARE, SUN_FAIRED])
-@pytest.mark.parametrize("cd", [0.0, 1.2])
+def test_normal_tangential_drag_is_the_peers_definition():
+    """loading = 'normal_tangential': rho d C_D |V_n| V_n / 2 + rho pi d C_Dt |V_t| V_t / 2
+    (MoorDyn's normal and tangential drag), for flows along, across and oblique to the
+    cable; C_D(Re) plays no part."""
+    cd, cdt = 1.2, 0.01
+    u = np.array([0.0, 0.6, -0.8])
+    rng = np.random.default_rng(4)
+    for rel in (0.7 * u, -0.3 * u, np.array([0.0, 0.8, 0.6]), *rng.normal(size=(5, 3))):
+        vt = rel @ u
+        vn = rel - vt * u
+        expected = (0.5 * RHO * D_CAB * cd * np.linalg.norm(vn) * vn
+                    + 0.5 * RHO * math.pi * D_CAB * cdt * abs(vt) * vt * u)
+        np.testing.assert_allclose(_drag_at(NORMAL_TANGENTIAL, cd, rel, u, cdt), expected,
+                                   rtol=1e-12, atol=1e-15)
+
+
+@pytest.mark.parametrize("kind, cd", [(k, c) for k in (BARE, FAIRED, SUN_BARE, SUN_FAIRED) for c in (0.0, 1.2)]
+                         + [(NORMAL_TANGENTIAL, 1.2)])  # constant coefficients only (scene validation)
 def test_drag_jacobian_matches_central_differences(kind, cd):
     """Over random relative flows (random direction, 1e-3 to 5 m/s: Re from 25, across all
     branches of C_D(Re)) and cable directions, the exact derivatives agree with central
@@ -758,8 +786,8 @@ def test_drag_jacobian_matches_central_differences(kind, cd):
     assert checked > 250
 
 
-@pytest.mark.parametrize("kind", [BARE, FAIRED])
-@pytest.mark.parametrize("cd", [0.0, 1.2])
+@pytest.mark.parametrize("kind, cd", [(k, c) for k in (BARE, FAIRED) for c in (0.0, 1.2)]
+                         + [(NORMAL_TANGENTIAL, 1.2)])
 def test_drag_jacobian_at_the_kinks_is_finite_and_the_mean_of_the_derivatives_around(kind, cd):
     """No flow: zero (the drag is quadratic there). Flow exactly across the cable: the mean of
     the derivatives on either side of the kink. Flow exactly along it: finite; with a
@@ -782,7 +810,7 @@ def test_drag_jacobian_at_the_kinks_is_finite_and_the_mean_of_the_derivatives_ar
     f, dv, du = _drag_jac_at(kind, cd, along, u)
     assert np.all(np.isfinite(dv)) and np.all(np.isfinite(du))
     assert np.abs(dv).max() > 0.0
-    if kind == BARE and cd > 0.0:
+    if kind in (BARE, NORMAL_TANGENTIAL) and cd > 0.0:
         around = [_drag_jac_at(kind, cd, along + delta * e, u) for e in (e1, -e1, e2, -e2)]
         np.testing.assert_allclose(dv, np.mean([j[1] for j in around], axis=0), rtol=0,
                                    atol=1e-5 * np.abs(dv).max())
@@ -801,7 +829,7 @@ def test_point_tangent_matches_central_differences_of_the_point_load(kind, cd):
     rng = np.random.default_rng(5 + kind)
     code, v0, grad = CURRENTS["linear"]
     w = _water(code, v0, grad, turb=rng.normal(0.0, 0.3, (12, 3)), turb_dt=0.5)
-    section = Section(int(kind), D_CAB, AREA, float(cd), 2.2, 1.0)
+    section = Section(int(kind), D_CAB, AREA, float(cd), 2.2, 1.0, 0.0)
     t = 2.3
     zero = (0.0, 0.0, 0.0)
 

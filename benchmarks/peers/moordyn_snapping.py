@@ -45,20 +45,23 @@ except ImportError:  # run as a script from this directory
 
 
 @contextlib.contextmanager
-def _silenced_stdout(enabled: bool = True):
-    """MoorDyn's C++ code prints a banner and IC progress to stdout; hide it."""
+def silenced(fd: int = 1, enabled: bool = True):
+    """Send the C++ code's output on file descriptor ``fd`` to /dev/null for a while:
+    MoorDyn prints a banner and IC progress on stdout (1) and every node of a diverging
+    run on stderr (2)."""
     if not enabled:
         yield
         return
-    sys.stdout.flush()
-    saved = os.dup(1)
+    stream = sys.stdout if fd == 1 else sys.stderr
+    stream.flush()
+    saved = os.dup(fd)
     devnull = os.open(os.devnull, os.O_WRONLY)
     try:
-        os.dup2(devnull, 1)
+        os.dup2(devnull, fd)
         yield
     finally:
-        sys.stdout.flush()
-        os.dup2(saved, 1)
+        stream.flush()
+        os.dup2(saved, fd)
         os.close(saved)
         os.close(devnull)
 
@@ -138,7 +141,7 @@ def run(frequency_hz: float, duration_s: float, n_segments: int, time_step_s: fl
             fh.write(build_input(n_segments, time_step_s, scheme, cable_axial_damping,
                                  cable_cd_tangential))
         t_init = _time.perf_counter()
-        with _silenced_stdout(quiet):
+        with silenced(1, quiet):
             system = moordyn.Create(path)
             moordyn.Init(system, [0.0, 0.0, z[0]], [0.0, 0.0, 0.0])
         init_time = _time.perf_counter() - t_init
@@ -159,7 +162,7 @@ def run(frequency_hz: float, duration_s: float, n_segments: int, time_step_s: fl
         finally:
             wall = _time.perf_counter() - wall0
             cpu = _time.process_time() - cpu0
-            with _silenced_stdout(quiet):
+            with silenced(1, quiet):
                 moordyn.Close(system)
 
     time = np.concatenate(([0.0], tt[1:] + stamp))

@@ -4,7 +4,12 @@ The element's axial deformation is represented by a one-dimensional Hermite elem
 with nodal values ``q_delta = [0, |r_p(0)|, s, |r_p(L)|]`` where ``s`` is the arc length
 of the deformed element; its Green strain ``eps = (lambda^2 - 1) / 2`` with
 ``lambda = dr_delta/dp`` does not couple to curvature. The energy is
-``U = EA/2 * int eps^2 dp`` and the force its exact gradient.
+``U = EA/2 * int eps^2 dp`` and the force its exact gradient: the axial force is
+``N = dU/dlambda = EA eps lambda``. The Kelvin-Voigt law of the snapping case and MoorDyn
+(segment ``axial_law = "kelvin_voigt"``) uses the engineering strain instead,
+``U = EA/2 * int (lambda - 1)^2 dp`` and ``N = EA (lambda - 1)``: the two agree to first
+order, but the Green law's tangent ``EA (3 lambda^2 - 1) / 2`` is stiffer by ``3 eps``
+(0.2 % at the snapping case's static strain, 1 % in its snaps).
 
 Quadrature: Gauss-Legendre (5 points by default). The integrands of W(46) are
 polynomials of degree 8 in xi once the three scalars (|r_p(0)|, s, |r_p(L)|) are
@@ -80,6 +85,25 @@ def axial_work(gauss_dn: np.ndarray, gauss_w: np.ndarray) -> AxialWork:
 
 
 @njit(cache=True, inline="always")
+def tension_of_strain(ea: float, eps: float, engineering: bool) -> float:
+    """Axial force [N] at the Green strain ``eps`` [-]: ``EA eps lambda`` (Green law) or
+    ``EA (lambda - 1)`` (``engineering``: the Kelvin-Voigt law's elastic part), with
+    ``lambda = sqrt(1 + 2 eps)``."""
+    lam = math.sqrt(max(1.0 + 2.0 * eps, 0.0))
+    return ea * (lam - 1.0) if engineering else ea * eps * lam
+
+
+@njit(cache=True, inline="always")
+def energy_of_strain(ea: float, eps: float, engineering: bool) -> float:
+    """Strain energy per unstretched length [J/m] at the Green strain ``eps`` [-]:
+    ``EA eps^2 / 2`` or ``EA (lambda - 1)^2 / 2`` (``engineering``)."""
+    if engineering:
+        stretch = math.sqrt(max(1.0 + 2.0 * eps, 0.0)) - 1.0
+        return 0.5 * ea * stretch * stretch
+    return 0.5 * ea * eps * eps
+
+
+@njit(cache=True, inline="always")
 def at_length(work: AxialWork, length: float) -> None:
     """Set ``work.d`` for an element of length ``length`` [m]."""
     slope_derivatives(work.dn, length, work.d)
@@ -109,8 +133,8 @@ def _kinematics(x, base, d, length, gw, lam, u):
 
 
 @njit(cache=True, inline="always")
-def axial_force(x: np.ndarray, base: int, length: float, ea: float, tension_only: bool, work: AxialWork,
-                f: np.ndarray) -> float:
+def axial_force(x: np.ndarray, base: int, length: float, ea: float, tension_only: bool, engineering: bool,
+                work: AxialWork, f: np.ndarray) -> float:
     """Generalised longitudinal elastic force W(46) of one element, added to ``f``.
 
     Parameters
@@ -121,6 +145,9 @@ def axial_force(x: np.ndarray, base: int, length: float, ea: float, tension_only
         Unstretched length L [m] and axial stiffness EA [N].
     tension_only
         If true, compressive strain carries no force (slack cable).
+    engineering
+        If true, the engineering-strain law ``N = EA (lambda - 1)`` (module docstring), else
+        the Green law ``N = EA eps lambda``.
     work
         The quadrature, set for this element's length (:func:`at_length`), and scratch.
     f
@@ -147,8 +174,12 @@ def axial_force(x: np.ndarray, base: int, length: float, ea: float, tension_only
                 continue
             taut |= 1 << g
         wl = gw[g] * length
-        energy += 0.5 * ea * wl * eps * eps
-        k = wl * eps * ld
+        if engineering:
+            energy += 0.5 * ea * wl * (ld - 1.0) * (ld - 1.0)
+            k = wl * (ld - 1.0)
+        else:
+            energy += 0.5 * ea * wl * eps * eps
+            k = wl * eps * ld
         ca += k * d[g, 1]
         cs += k * d[g, 2]
         c1 += k * d[g, 3]
@@ -170,8 +201,8 @@ def axial_force(x: np.ndarray, base: int, length: float, ea: float, tension_only
 
 
 @njit(cache=True)
-def axial_tangent(x: np.ndarray, base: int, length: float, ea: float, tension_only: bool, work: AxialWork,
-                  scale: float, kmat: np.ndarray) -> int:
+def axial_tangent(x: np.ndarray, base: int, length: float, ea: float, tension_only: bool, engineering: bool,
+                  work: AxialWork, scale: float, kmat: np.ndarray) -> int:
     """Tangent stiffness dQ_l/dx of :func:`axial_force`, times ``scale``, added to ``kmat`` (12, 12)
     (arguments as :func:`axial_force`); returns the taut points' bit mask as :func:`axial_force` does."""
     d, gw, lam, u, grad, first, hess = work.d, work.gw, work.lam, work.u, work.grad, work.first, work.hess
@@ -201,8 +232,12 @@ def axial_tangent(x: np.ndarray, base: int, length: float, ea: float, tension_on
                 continue
             taut |= 1 << g
         wl = gw[g] * length
-        k1 = wl * eps * ld
-        k2 = wl * (ld * ld + eps)
+        if engineering:
+            k1 = wl * (ld - 1.0)
+            k2 = wl
+        else:
+            k1 = wl * eps * ld
+            k2 = wl * (ld * ld + eps)
         for a in range(3):
             first[a] += k1 * d[g, a + 1]
             for b in range(3):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..kernel_cache import njit
-from .axial import at_length, axial_strains, axial_work
+from .axial import at_length, axial_strains, axial_work, energy_of_strain, tension_of_strain
 from .model import CableModel
 from .system import residual_span
 
@@ -21,7 +21,8 @@ def tension_profile(model: CableModel, q: np.ndarray, xi: np.ndarray) -> np.ndar
     The force transmitted by the cable is the derivative of the strain energy
     ``EA/2 eps^2`` with respect to the stretched length: ``T = EA eps lambda`` with the
     decoupled Green strain ``eps`` (W(45)) and the stretch ``lambda = sqrt(1 + 2 eps)``;
-    it is the force a support reacts with, and equals ``EA eps`` to first order.
+    it is the force a support reacts with, and equals ``EA eps`` to first order. A segment
+    with the Kelvin-Voigt law carries ``EA (lambda - 1)`` (:func:`.axial.tension_of_strain`).
 
     Parameters
     ----------
@@ -57,7 +58,7 @@ def tension_profile(model: CableModel, q: np.ndarray, xi: np.ndarray) -> np.ndar
             ek = eps[k]
             if model.el_tension_only[e] and ek < 0.0:
                 ek = 0.0
-            out[e, k] = model.el_ea[e] * ek * np.sqrt(max(1.0 + 2.0 * ek, 0.0))
+            out[e, k] = tension_of_strain(model.el_ea[e], ek, model.el_engineering[e])
     return out
 
 
@@ -149,7 +150,7 @@ def summary(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: f
             if model.el_tension_only[e] and ek < 0.0:
                 ek = 0.0
             if k < nk:
-                tension = ea * ek * np.sqrt(max(1.0 + 2.0 * ek, 0.0))
+                tension = tension_of_strain(ea, ek, model.el_engineering[e])
                 t_max = max(t_max, tension)
                 t_min = min(t_min, tension)
                 if e == 0 and k == 0:
@@ -157,7 +158,7 @@ def summary(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: f
                 if e == ne - 1 and k == nk - 1:
                     out[3] = tension
             else:
-                axial += 0.5 * ea * model.gauss_w[k - nk] * length * ek * ek
+                axial += model.gauss_w[k - nk] * length * energy_of_strain(ea, ek, model.el_engineering[e])
     out[4] = t_max
     out[5] = t_min
     out[6] = kinetic_energy(model, v)
@@ -198,13 +199,14 @@ def point_on_cable(model: CableModel, q: np.ndarray, e: int, xi: float) -> np.nd
     norm = np.sqrt(out[3] ** 2 + out[4] ** 2 + out[5] ** 2)
     for c in range(3):
         out[3 + c] /= max(norm, 1e-300)
-    out[6] = model.el_ea[e] * eps[0] * np.sqrt(max(1.0 + 2.0 * eps[0], 0.0))
+    out[6] = tension_of_strain(model.el_ea[e], eps[0], model.el_engineering[e])
     return out
 
 
 @njit(cache=True)
 def element_tension(model: CableModel, q: np.ndarray, e: int) -> float:
-    """Mean axial force over element e [N]: the Gauss average of EA eps lambda.
+    """Mean axial force over element e [N]: the Gauss average of EA eps lambda (or of
+    EA (lambda - 1) with the Kelvin-Voigt law).
 
     Inside an element bent around a pulley the pointwise decoupled strain oscillates by a
     per cent or so about its mean (a cubic does not follow a circle exactly); the mean
@@ -221,5 +223,5 @@ def element_tension(model: CableModel, q: np.ndarray, e: int) -> float:
         ek = eps[g]
         if model.el_tension_only[e] and ek < 0.0:
             ek = 0.0
-        total += model.gauss_w[g] * model.el_ea[e] * ek * np.sqrt(max(1.0 + 2.0 * ek, 0.0))
+        total += model.gauss_w[g] * tension_of_strain(model.el_ea[e], ek, model.el_engineering[e])
     return total

@@ -78,6 +78,7 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
     props = [segs[i] for i in mesh.segment_of_element]
     el_ea = np.array([p.EA for p in props])
     el_tension_only = np.array([not p.compression for p in props])
+    el_engineering = np.array([p.axial_law == "kelvin_voigt" for p in props])
     el_mass = np.stack([element.mass_matrix(L, p.mass_per_length) for L, p in zip(el_len, props)])
     el_bend = np.stack([element.bending_matrix(L, p.EI) for L, p in zip(el_len, props)])
     el_damp = np.stack([element.damping_matrix(L, p.damping) for L, p in zip(el_len, props)])
@@ -121,7 +122,8 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
 
     gx, gw = element.gauss_legendre(AXIAL_GAUSS_POINTS)
     model = CableModel(
-        el_len=el_len, el_ea=el_ea, el_tension_only=el_tension_only, el_mass=el_mass, el_bend=el_bend,
+        el_len=el_len, el_ea=el_ea, el_tension_only=el_tension_only, el_engineering=el_engineering,
+        el_mass=el_mass, el_bend=el_bend,
         el_damp=el_damp, el_d=np.array([p.diameter for p in props]),
         el_npts=np.array([p.integration_points for p in props], dtype=np.int64),
         f_const=f_const, node_mass=node_mass,

@@ -56,6 +56,7 @@ class CableModel(NamedTuple):
     el_len: np.ndarray          #: (ne,) unstretched element lengths [m]
     el_ea: np.ndarray           #: (ne,) axial stiffness EA [N]
     el_tension_only: np.ndarray  #: (ne,) bool: no axial force in compression
+    el_engineering: np.ndarray  #: (ne,) bool: axial force EA (lambda - 1) (Kelvin-Voigt), else EA eps_G lambda
     el_mass: np.ndarray         #: (ne, 4, 4) mass factor [kg...]
     el_bend: np.ndarray         #: (ne, 4, 4) bending stiffness factor
     el_damp: np.ndarray         #: (ne, 4, 4) internal damping factor

@@ -86,7 +86,8 @@ def residual_span(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
         length = model.el_len[e]
         at_length(work, length)
         fe[:] = 0.0
-        u, taut = axial_force(q, base, length, model.el_ea[e], model.el_tension_only[e], work, fe)
+        u, taut = axial_force(q, base, length, model.el_ea[e], model.el_tension_only[e], model.el_engineering[e],
+                              work, fe)
         energy += u
         model.el_taut[TAUT_RESIDUAL, e] = taut
         for i in range(12):
@@ -131,7 +132,7 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
         length = model.el_len[e]
         at_length(work, length)
         model.el_taut[TAUT_MATRIX, e] = axial_tangent(q, base, length, model.el_ea[e], model.el_tension_only[e],
-                                                      work, cq, ke)
+                                                      model.el_engineering[e], work, cq, ke)
         band_add_block(ab, model.kl, model.ku, model.free_idx, base, ke)
     off = model.kl + model.ku
     nn = model.node_mass.shape[0]

@@ -41,7 +41,7 @@ import numpy as np
 
 from ..kernel_cache import njit
 from ..ancf.partial import active_quadrature, add_point_block, crossing_stiffness, hermite, interpolate
-from .loading import drag_coefficient, drag_coefficient_slope, loading_functions, loading_slopes
+from .loading import NORMAL_TANGENTIAL, drag_coefficient, drag_coefficient_slope, loading_functions, loading_slopes
 from .water import CURRENT_LINEAR, WaterModel, mean_flow, turbulence
 
 _TINY = 1e-12
@@ -58,6 +58,7 @@ class CableHydro(NamedTuple):
     el_d: np.ndarray       #: (ne,) diameter [m]
     el_area: np.ndarray    #: (ne,) pi d^2 / 4 [m^2]
     el_cd: np.ndarray      #: (ne,) constant C_D, or 0 for C_D(Re)
+    el_cdt: np.ndarray     #: (ne,) tangential C_Dt on pi d (loading NORMAL_TANGENTIAL; else unused)
     el_g: np.ndarray       #: (ne,) drag amplification G
     el_cm: np.ndarray      #: (ne,) added mass coefficient C_m
     el_npts: np.ndarray    #: (ne,) integration points N_I
@@ -68,9 +69,12 @@ class CableHydro(NamedTuple):
 # C_D(Re) inlined; its two calls per point cost little next to its work. IR-inlined
 # (inline="always") at its call sites, all of it would be expanded and typed again at each.
 @njit(cache=True)
-def drag(rho: float, mu: float, kind: int, d: float, cd_fixed: float, vx: float, vy: float, vz: float,
-         ux: float, uy: float, uz: float) -> tuple:
-    """Drag per unit length W(58) [N/m] for relative flow V [m/s] on a cable along unit u."""
+def drag(rho: float, mu: float, kind: int, d: float, cd_fixed: float, cdt_fixed: float, vx: float, vy: float,
+         vz: float, ux: float, uy: float, uz: float) -> tuple:
+    """Drag per unit length W(58) [N/m] for relative flow V [m/s] on a cable along unit u.
+
+    ``cd_fixed`` is the constant C_D (0: C_D(Re)); ``cdt_fixed`` the tangential C_Dt of the
+    loading NORMAL_TANGENTIAL (used by that kind only, on the term along the cable)."""
     vt = vx * ux + vy * uy + vz * uz
     nx = vx - vt * ux
     ny = vy - vt * uy
@@ -92,7 +96,10 @@ def drag(rho: float, mu: float, kind: int, d: float, cd_fixed: float, vx: float,
         fy += k * ny
         fz += k * nz
     if abs(vt) > _TINY * speed:
-        cd = cd_fixed if cd_fixed > 0.0 else drag_coefficient(rho * d * speed / mu)
+        if kind == NORMAL_TANGENTIAL:
+            cd = cdt_fixed
+        else:
+            cd = cd_fixed if cd_fixed > 0.0 else drag_coefficient(rho * d * speed / mu)
         k = qd * cd * ft * (1.0 if vt > 0.0 else -1.0)
         fx += k * ux
         fy += k * uy
@@ -121,8 +128,8 @@ def _combine(a: float, x: tuple, b: float, y: tuple) -> tuple:
 
 # A plain kernel as drag (two calls per point).
 @njit(cache=True)
-def drag_jacobian(rho: float, mu: float, kind: int, d: float, cd_fixed: float, vx: float, vy: float, vz: float,
-                  ux: float, uy: float, uz: float) -> tuple:
+def drag_jacobian(rho: float, mu: float, kind: int, d: float, cd_fixed: float, cdt_fixed: float, vx: float,
+                  vy: float, vz: float, ux: float, uy: float, uz: float) -> tuple:
     """The drag of :func:`drag` and its exact derivatives.
 
     With the relative flow ``V = V_t u + V_n h`` (``h`` the unit normal flow direction),
@@ -134,8 +141,9 @@ def drag_jacobian(rho: float, mu: float, kind: int, d: float, cd_fixed: float, v
     ----------
     rho, mu
         Water density [kg/m^3] and viscosity [Pa s].
-    kind, d, cd_fixed
-        Loading functions, diameter [m] and constant C_D (0: C_D(Re)), as :func:`drag`.
+    kind, d, cd_fixed, cdt_fixed
+        Loading functions, diameter [m], constant C_D (0: C_D(Re)) and tangential C_Dt, as
+        :func:`drag`.
     vx, vy, vz
         Relative flow V [m/s].
     ux, uy, uz
@@ -206,8 +214,12 @@ def drag_jacobian(rho: float, mu: float, kind: int, d: float, cd_fixed: float, v
         a_h = 0.0
         a_uh = 0.0
     re_t = rho * d * speed / mu
-    cdt = cd_fixed if cd_fixed > 0.0 else drag_coefficient(re_t)
-    cdt_slope = 0.0 if cd_fixed > 0.0 else drag_coefficient_slope(re_t)
+    fixed_t = cd_fixed > 0.0 or kind == NORMAL_TANGENTIAL
+    if kind == NORMAL_TANGENTIAL:
+        cdt = cdt_fixed
+    else:
+        cdt = cd_fixed if cd_fixed > 0.0 else drag_coefficient(re_t)
+    cdt_slope = 0.0 if fixed_t else drag_coefficient_slope(re_t)
     b = qd * cdt * ft * sign
     b_s = sign * ft * qd * (2.0 * cdt + cdt_slope) / speed2  # dB/dV from |V| and Re: b_s V
     b_eta = qd * cdt * dft  # dB/dV from eta: b_eta (V_t h - V_n u)/|V|^2 (sign^2 = 1: continuous at V_t = 0)
@@ -230,12 +242,13 @@ class Section(NamedTuple):
     cd: float        #: constant C_D, or 0 for C_D(Re)
     g_amp: float     #: drag amplification G
     cm: float        #: added mass coefficient C_m
+    cdt: float       #: tangential C_Dt on pi d (loading NORMAL_TANGENTIAL only)
 
 
 @njit(cache=True, inline="always")
 def element_section(hy: CableHydro, e: int) -> Section:
     """Element ``e``'s cross-section."""
-    return Section(hy.el_kind[e], hy.el_d[e], hy.el_area[e], hy.el_cd[e], hy.el_g[e], hy.el_cm[e])
+    return Section(hy.el_kind[e], hy.el_d[e], hy.el_area[e], hy.el_cd[e], hy.el_g[e], hy.el_cm[e], hy.el_cdt[e])
 
 
 @njit(cache=True, inline="always")
@@ -251,15 +264,15 @@ def point_load(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v
     """Hydrodynamic load per unit length [N/m] at a submerged point of height ``rz`` [m],
     slope ``p`` (3-tuple, any length), velocity ``v`` [m/s] and acceleration ``a`` [m/s^2]
     (3-tuples; pass a = 0 to leave out the added mass) at time ``t`` [s]."""
-    kind, d, area, cd, g_amp, cm = section
+    kind, d, area, cd, g_amp, cm, cdt = section
     vx, vy, vz = v
     ax, ay, az = a
     ux, uy, uz, lp = _direction(p)
     mx, my, mz = mean_flow(w, rz)
     tx, ty, tz, afx, afy, afz = turbulence(w, t)
-    fx, fy, fz = drag(w.density, w.viscosity, kind, d, cd, mx + tx - vx, my + ty - vy, mz + tz - vz, ux, uy, uz)
+    fx, fy, fz = drag(w.density, w.viscosity, kind, d, cd, cdt, mx + tx - vx, my + ty - vy, mz + tz - vz, ux, uy, uz)
     if g_amp != 1.0:
-        sx, sy, sz = drag(w.density, w.viscosity, kind, d, cd, mx, my, mz, ux, uy, uz)
+        sx, sy, sz = drag(w.density, w.viscosity, kind, d, cd, cdt, mx, my, mz, ux, uy, uz)
         fx += (g_amp - 1.0) * sx
         fy += (g_amp - 1.0) * sy
         fz += (g_amp - 1.0) * sz
@@ -285,16 +298,16 @@ def point_tangent(w: WaterModel, section: Section, t: float, rz: float, p: tuple
     (3-tuple; zero unless the current varies with depth). The drag's derivatives are
     :func:`drag_jacobian`'s; the added-mass term's dependence on the direction is left out
     (the added-mass matrix W(74) is the tangent's inertia part)."""
-    kind, d, area, cd, g_amp, cm = section
+    kind, d, area, cd, g_amp, cm, cdt = section
     vx, vy, vz = v
     ux, uy, uz, lp = _direction(p)
     mx, my, mz = mean_flow(w, rz)
     tx, ty, tz, afx, afy, afz = turbulence(w, t)
-    (fx, fy, fz), dv, du = drag_jacobian(w.density, w.viscosity, kind, d, cd, mx + tx - vx, my + ty - vy,
+    (fx, fy, fz), dv, du = drag_jacobian(w.density, w.viscosity, kind, d, cd, cdt, mx + tx - vx, my + ty - vy,
                                          mz + tz - vz, ux, uy, uz)
     gm = g_amp - 1.0
     if gm != 0.0:
-        (sx, sy, sz), sdv, sdu = drag_jacobian(w.density, w.viscosity, kind, d, cd, mx, my, mz, ux, uy, uz)
+        (sx, sy, sz), sdv, sdu = drag_jacobian(w.density, w.viscosity, kind, d, cd, cdt, mx, my, mz, ux, uy, uz)
         fx += gm * sx
         fy += gm * sy
         fz += gm * sz

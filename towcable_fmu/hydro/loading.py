@@ -11,6 +11,11 @@
   (f_t is 0.0059 along the flow and 0 across it); faired, eq. 29: f_n = g(a) sin a,
   f_t = g(a) cos a with g = 0.273 + 0.827 a^2 below 30 deg and g = sin a above (the two
   branches meet at 30 deg: 0.273 + 0.827 (pi/6)^2 = 0.4997).
+* Normal and tangential drag as MoorDyn writes it (the snapping case's definition):
+  f_n = sin^2 a on the reference d with the normal C_D, f_t = pi cos^2 a with the
+  tangential C_Dt (reference pi d, the wetted perimeter): per unit length
+  rho d C_D |V_n| V_n / 2 + rho pi d C_Dt |V_t| V_t / 2. The drag kernels apply C_Dt
+  to the tangential term of this kind (:func:`towcable_fmu.hydro.cable.drag`).
 * C_D(Re), W(61)-(63) (Choo & Casarella), with Re from the normal relative speed.
   At Re -> 0 the first branch diverges; the coefficient is evaluated at no less than
   ``RE_MIN`` (the drag itself goes to zero with the speed).
@@ -26,7 +31,9 @@ BARE = 0
 FAIRED = 1
 SUN_BARE = 2
 SUN_FAIRED = 3
-LOADINGS = {"bare": BARE, "faired": FAIRED, "sun2011_bare": SUN_BARE, "sun2011_faired": SUN_FAIRED}
+NORMAL_TANGENTIAL = 4
+LOADINGS = {"bare": BARE, "faired": FAIRED, "sun2011_bare": SUN_BARE, "sun2011_faired": SUN_FAIRED,
+            "normal_tangential": NORMAL_TANGENTIAL}
 
 #: Smallest Reynolds number at which C_D(Re) is evaluated.
 RE_MIN = 1e-3
@@ -44,7 +51,7 @@ def loading_functions(kind: int, cos_eta: float, sin_eta: float) -> tuple[float,
     Parameters
     ----------
     kind
-        One of BARE, FAIRED, SUN_BARE, SUN_FAIRED.
+        One of BARE, FAIRED, SUN_BARE, SUN_FAIRED, NORMAL_TANGENTIAL.
     cos_eta, sin_eta
         Cosine and sine of the angle eta in [0, pi/2] between the relative flow and the
         cable (both >= 0; passing them avoids inverse trigonometry in the hot loop).
@@ -57,6 +64,8 @@ def loading_functions(kind: int, cos_eta: float, sin_eta: float) -> tuple[float,
         eta = math.atan2(sin_eta, cos_eta)
         g = 0.273 + 0.827 * eta * eta if eta < math.pi / 6.0 else sin_eta
         return g * sin_eta, g * cos_eta
+    if kind == NORMAL_TANGENTIAL:
+        return sin_eta * sin_eta, math.pi * cos_eta * cos_eta
     if kind == BARE:
         eta = math.atan2(sin_eta, cos_eta)
         fn = 0.5 - 0.1 * cos_eta + 0.1 * sin_eta - 0.4 * cos2 - 0.11 * sin2
@@ -90,6 +99,8 @@ def loading_slopes(kind: int, cos_eta: float, sin_eta: float) -> tuple[float, fl
             g = sin_eta
             dg = cos_eta
         return dg * sin_eta + g * cos_eta, dg * cos_eta - g * sin_eta
+    if kind == NORMAL_TANGENTIAL:
+        return sin2, -math.pi * sin2
     if kind == BARE:
         eta = math.atan2(sin_eta, cos_eta)
         dfn = 0.1 * sin_eta + 0.1 * cos_eta + 0.8 * sin2 - 0.22 * cos2

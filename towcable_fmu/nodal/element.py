@@ -11,7 +11,10 @@ u = (X_2 - X_1)/L and current length L:
   O(eps^2)); a tension-only material sets the elastic part to 0 when eps < 0;
 * material damping C = c K, eqs. 14-15: C Xdot = BA (L/L0) epsdot [-u, u] with
   BA = c EA [N s] (the scene's segment ``damping``) and epsdot = u . (V_2 - V_1)/L0;
-  it acts also in a slack element, as in the peers' Kelvin-Voigt law;
+  it acts also in a slack element, as in the peers' Kelvin-Voigt law. With the segment's
+  ``axial_law = "kelvin_voigt"`` the force is the peers' law itself,
+  N = EA max(eps, 0) + BA epsdot, without the factor L/L0 (which stiffens the paper's law
+  by 2 eps: 0.1 % at the snapping case's static strain);
 * consistent mass, eq. 12: M = mu L0/6 [[2I, I], [I, 2I]] (constant);
 * gravity and buoyancy, eqs. 24-25, and the fluid loads, eqs. 16-23: drag with the
   segment's loading functions, added mass C_a rho A (I - u u^T) acting on the normal
@@ -63,7 +66,8 @@ def axial_force(m: NodalModel, e: int, q: np.ndarray, v: np.ndarray) -> tuple:
     eps = length / l0 - 1.0
     eps_rate = (ux * (v[i + 3] - v[i]) + uy * (v[i + 4] - v[i + 1]) + uz * (v[i + 5] - v[i + 2])) / l0
     elastic = 0.0 if (m.tension_only[e] and eps < 0.0) else m.EA[e] * eps
-    return (length / l0) * (elastic + m.BA[e] * eps_rate), length, ux, uy, uz
+    factor = 1.0 if m.kelvin_voigt[e] else length / l0
+    return factor * (elastic + m.BA[e] * eps_rate), length, ux, uy, uz
 
 
 @njit(cache=True, inline="always")
@@ -88,7 +92,7 @@ def add_element(m: NodalModel, e: int, q: np.ndarray, v: np.ndarray, a: np.ndarr
     w = m.water
     if not w.enabled:
         return
-    section = Section(m.kind[e], m.d[e], m.area[e], m.cd[e], m.g_amp[e], m.cm[e])
+    section = Section(m.kind[e], m.d[e], m.area[e], m.cd[e], m.g_amp[e], m.cm[e], m.cdt[e])
     for g in range(2):
         xi = _G0 if g == 0 else _G1
         pz = (1.0 - xi) * q[i + 2] + xi * q[i + 5]

@@ -31,6 +31,7 @@ class NodalModel(NamedTuple):
     EA: np.ndarray          #: (ne,) axial stiffness [N]
     BA: np.ndarray          #: (ne,) axial damping c EA of eq. 14-15 [N s]
     tension_only: np.ndarray  #: (ne,) bool: no elastic force in compression
+    kelvin_voigt: np.ndarray  #: (ne,) bool: N = EA eps + BA epsdot (else the paper's (L/L0) times it)
     mu: np.ndarray          #: (ne,) mass per unstretched length [kg/m]
     kind: np.ndarray        #: (ne,) loading functions (hydro.loading codes)
     d: np.ndarray           #: (ne,) hydrodynamic diameter [m]
@@ -38,6 +39,7 @@ class NodalModel(NamedTuple):
     cd: np.ndarray          #: (ne,) constant C_D, or 0 for C_D(Re)
     g_amp: np.ndarray       #: (ne,) drag amplification G
     cm: np.ndarray          #: (ne,) normal added-mass coefficient C_a
+    cdt: np.ndarray         #: (ne,) tangential C_Dt on pi d (loading normal_tangential only)
     gravity: float          #: g [m/s^2]
     water: WaterModel
     body: BodyHydro
@@ -95,9 +97,11 @@ def build_nodal_model(scene: Scene) -> NodalModel:
     return NodalModel(
         n_nodes=ne + 1, L0=np.array([s.length / s.elements for s in segs]), EA=col("EA"),
         BA=col("damping"), tension_only=np.array([not s.compression for s in segs]),
+        kelvin_voigt=np.array([s.axial_law == "kelvin_voigt" for s in segs]),
         mu=col("mass_per_length"), kind=np.array([LOADINGS[s.loading] for s in segs], dtype=np.int64),
         d=d, area=np.pi * d**2 / 4.0, cd=np.array([s.drag_coefficient or 0.0 for s in segs]),
         g_amp=col("drag_amplification"), cm=col("added_mass_coefficient"),
+        cdt=np.array([s.tangential_drag_coefficient or 0.0 for s in segs]),
         gravity=scene.environment.gravity, water=build_water(scene),
         body=build_body(scene, 3 * ne) if lumped else no_body(), end_mass=end_mass,
         top_point=np.array(top.position, dtype=float), top_on_ship=top.frame == "ship", rigid=rigid)

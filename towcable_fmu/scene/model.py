@@ -39,11 +39,25 @@ class Segment:
                                    doc="N_I: equally spaced trapezoidal points per element for distributed loads")
     compression: bool = spec(True, doc="true: the axial stiffness also acts in compression (the reference's "
                                        "model); false: tension-only material, a slack cable carries no load")
-    loading: str = spec("bare", choices=("bare", "faired", "sun2011_bare", "sun2011_faired"),
-                        doc="drag loading functions: bare cable W(60), ribbon-faired W(145), or the "
-                            "nodal-position paper's bare and faired eqs. 28-29 (use with drag_coefficient)")
+    axial_law: str = spec("formulation", choices=("formulation", "kelvin_voigt"),
+                          doc="axial force law. formulation: the cable formulation's own (ANCF: Green strain, "
+                              "N = EA eps_G lambda, Rayleigh damping W(55) on the slope rate; nodal_position: "
+                              "the paper's eqs. 13-15, N = (L/L0) (EA eps + c EA deps/dt)); kelvin_voigt: "
+                              "N = EA eps + damping deps/dt with the engineering strain eps = L/L0 - 1 "
+                              "(MoorDyn's law and the snapping case's; the ANCF keeps W(55), which is this "
+                              "damping for a straight element)")
+    loading: str = spec("bare", choices=("bare", "faired", "sun2011_bare", "sun2011_faired", "normal_tangential"),
+                        doc="drag loading functions: bare cable W(60), ribbon-faired W(145), the "
+                            "nodal-position paper's bare and faired eqs. 28-29 (use with drag_coefficient), or "
+                            "normal_tangential: drag_coefficient on the normal flow (reference d) and "
+                            "tangential_drag_coefficient on the flow along the cable (reference pi d), "
+                            "MoorDyn's convention")
     drag_coefficient: float | None = spec(None, unit="-", gt=0.0,
                                           doc="constant common drag coefficient C_D; default: C_D(Re) of W(61)-(63)")
+    tangential_drag_coefficient: float | None = spec(None, unit="-", ge=0.0,
+                                                     doc="C_Dt on the flow along the cable, per wetted perimeter "
+                                                         "pi d (loading = 'normal_tangential' only): drag "
+                                                         "rho pi d C_Dt |V_t| V_t / 2 per unit length")
     drag_amplification: float = spec(1.0, unit="-", ge=0.0, le=10.0,
                                      doc="G of W(64): the mean (steady) drag is G times the steady drag "
                                          "(1: no amplification; docs/design.md)")
@@ -58,10 +72,23 @@ class Segment:
         """The first property of the cable itself (not of its loads) in which this segment
         differs from ``other``: what cable paid out over a winch's gear must share with it
         (None: the same cable)."""
-        for name in ("diameter", "mass_per_length", "EA", "EI", "damping"):
+        for name in ("diameter", "mass_per_length", "EA", "EI", "damping", "axial_law"):
             if getattr(self, name) != getattr(other, name):
                 return name
         return None
+
+    def validate(self, key: str) -> None:
+        """Cross-field checks: the normal/tangential drag needs both constant coefficients."""
+        if self.loading == "normal_tangential":
+            if self.drag_coefficient is None:
+                raise SceneError(f"{key}.drag_coefficient", None, "a constant C_D > 0 (required with loading = "
+                                                                  "'normal_tangential')")
+            if self.tangential_drag_coefficient is None:
+                raise SceneError(f"{key}.tangential_drag_coefficient", None,
+                                 "a constant C_Dt >= 0 (required with loading = 'normal_tangential')")
+        elif self.tangential_drag_coefficient is not None:
+            raise SceneError(f"{key}.tangential_drag_coefficient", self.tangential_drag_coefficient,
+                             "absent unless loading = 'normal_tangential'")
 
 
 @dataclasses.dataclass(frozen=True)

@@ -32,6 +32,7 @@ def build(scene: Scene, mesh: Mesh, model: CableModel) -> CableHydro:
         el_kind=np.array([LOADINGS[p.loading] for p in props], dtype=np.int64),
         el_d=d, el_area=np.pi * d**2 / 4.0,
         el_cd=np.array([p.drag_coefficient or 0.0 for p in props]),
+        el_cdt=np.array([p.tangential_drag_coefficient or 0.0 for p in props]),
         el_g=np.array([p.drag_amplification for p in props]),
         el_cm=np.array([p.added_mass_coefficient for p in props]),
         el_npts=np.array([p.integration_points for p in props], dtype=np.int64),
