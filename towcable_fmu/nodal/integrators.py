@@ -31,7 +31,7 @@ from ..numerics.banded import band_lu, band_solve
 from ..numerics.hermite import step_weights
 from ..drive import evaluate_drive
 from .assembly import bandwidth, cable_residual, expand, iteration_matrix, residual
-from .element import axial_force
+from .element import add_element, axial_force
 from .model import NodalModel
 from ..rigid_body import attitude_ok
 
@@ -41,7 +41,8 @@ CLOCK_STEP = 1  #: current step size [s]
 
 GENALPHA = 0
 RK4 = 1
-INTEGRATORS = {"genalpha": GENALPHA, "rk4": RK4}
+LEAPFROG = 2  #: explicit, lumped masses: :mod:`.explicit`
+INTEGRATORS = {"genalpha": GENALPHA, "rk4": RK4, "leapfrog": LEAPFROG}
 # fields of the integrator's counters (NodalState.stats), named in STAT_NAMES
 STAT_STEPS = 0
 STAT_NEWTON = 1
@@ -211,13 +212,13 @@ def output_values(m: NodalModel, q: np.ndarray, v: np.ndarray, x: np.ndarray, t:
     element axial force [N], the last node's (towed body's) position [m] and velocity [m/s];
     with a rigid body its CG's position and velocity, then the force of the cable on the
     body [N] and the body's roll, pitch and yaw [rad] (:data:`.simulation.RIGID_NAMES`)."""
-    r = np.empty(q.size)
-    residual(m, q, v, x, t, r)
-    out[0] = math.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
-    out[1] = math.acos(min(max(abs(r[2]) / max(out[0], 1e-300), 0.0), 1.0))
     nq = 3 * m.n_nodes
     qn, vn, an = np.empty(nq), np.empty(nq), np.empty(nq)
     expand(m, q, v, x, qn, vn, an)
+    r = np.zeros(6)  # the top node's residual: the first element's part of it (no other reaches it)
+    add_element(m, 0, qn, vn, an, t, r)
+    out[0] = math.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
+    out[1] = math.acos(min(max(abs(r[2]) / max(out[0], 1e-300), 0.0), 1.0))
     hi, lo = -np.inf, np.inf
     for e in range(m.n_nodes - 1):
         n = axial_force(m, e, qn, vn)[0]
