@@ -31,13 +31,12 @@ import math
 
 import numpy as np
 
-from ..drive import evaluate_drive
 from ..kernel_cache import njit
 from ..hydro.towbody import submerged
 from .assembly import cable_residual
 from .element import _G0, _G1
 from .integrators import (CLOCK_TIME, STAT_RESIDUALS, STAT_STEPS, Interpolant, NodalOptions, NodalState,
-                          _interpolate, output_values, prescribe_top)
+                          prescribe_top, record_sample)
 from .model import NodalModel
 
 
@@ -113,23 +112,6 @@ def _add_normal(p: np.ndarray, k2: float, dx: float, dy: float, dz: float, k: fl
     p[5] -= k2 * dy * dz
 
 
-@njit(cache=True, inline="always")
-def _top(m: NodalModel, drive_t: np.ndarray, drive_x: np.ndarray, t: float, ship: np.ndarray, q: np.ndarray,
-         v: np.ndarray, a: np.ndarray) -> None:
-    """:func:`~towcable_fmu.nodal.integrators.prescribe_top` into the scratch ``ship`` (3, 6); a
-    ship that does not rotate at t moves every point with its origin (no rotation matrices)."""
-    if not m.top_on_ship:
-        prescribe_top(m, drive_t, drive_x, t, q, v, a)
-        return
-    evaluate_drive(drive_t, drive_x, t, ship)
-    for k in range(3, 6):
-        if ship[0, k] != 0.0 or ship[1, k] != 0.0 or ship[2, k] != 0.0:
-            prescribe_top(m, drive_t, drive_x, t, q, v, a)
-            return
-    for c in range(3):
-        q[c], v[c], a[c] = ship[0, c] + m.top_point[c], ship[1, c], ship[2, c]
-
-
 # error_model "numpy": a division by zero gives inf or NaN (the run stops at a non-finite
 # output) instead of a Python exception, whose checks halve the speed of the force loop
 @njit(cache=True, error_model="numpy")
@@ -153,7 +135,6 @@ def leapfrog_recording(m: NodalModel, mass: np.ndarray, options: NodalOptions, s
     zero = np.zeros(n)
     r = np.empty(n)
     added = np.empty((m.n_nodes, 6))
-    ship = np.empty((3, 6))
     h_nom = options.h_max
     for s in range(samples.size):
         target = samples[s]
@@ -174,18 +155,13 @@ def leapfrog_recording(m: NodalModel, mass: np.ndarray, options: NodalOptions, s
             for i in range(3, n):
                 v[i] += half * a[i]
                 q[i] += h * v[i]
-            _top(m, drive_t, drive_x, t + h, ship, q, v, a)
+            prescribe_top(m, drive_t, drive_x, t + h, q, v, a)
             lumped_accelerations(m, mass, q, v, t + h, zero, r, added, a)
             for i in range(3, n):
                 v[i] += half * a[i]
             clock[CLOCK_TIME] = t + h
             stats[STAT_STEPS] += 1
             stats[STAT_RESIDUALS] += 1
-        if target >= clock[CLOCK_TIME] - tol:
-            output_values(m, q, v, a, clock[CLOCK_TIME], values[s])
-        else:
-            _interpolate(m, ip, q, v, a, clock[CLOCK_TIME], target, drive_t, drive_x)
-            output_values(m, ip.state[0], ip.state[1], ip.state[2], target, values[s])
-        if not np.all(np.isfinite(values[s])):
+        if not record_sample(m, ip, q, v, a, clock[CLOCK_TIME], target, drive_t, drive_x, values[s]):
             return s
     return samples.size

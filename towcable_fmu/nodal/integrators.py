@@ -87,9 +87,13 @@ def prescribe_top(m: NodalModel, drive_t: np.ndarray, drive_x: np.ndarray, t: fl
     if m.top_on_ship:
         ship = np.empty((3, 6))
         evaluate_drive(drive_t, drive_x, t, ship)
-        k = ship_point_kinematics(ship, m.top_point)
-        for c in range(3):
-            q[c], v[c], a[c] = k[0, c], k[1, c], k[2, c]
+        if ship[:, 3:].any():
+            k = ship_point_kinematics(ship, m.top_point)
+            for c in range(3):
+                q[c], v[c], a[c] = k[0, c], k[1, c], k[2, c]
+        else:  # a ship that does not rotate (now) carries the point with its origin: the same values
+            for c in range(3):
+                q[c], v[c], a[c] = ship[0, c] + m.top_point[c], ship[1, c], ship[2, c]
     else:
         for c in range(3):
             q[c], v[c], a[c] = m.top_point[c], 0.0, 0.0
@@ -327,11 +331,20 @@ def advance_recording(m: NodalModel, options: NodalOptions, state: NodalState, s
             stats[STAT_STEPS] += 1
             if h == clock[CLOCK_STEP]:
                 clock[CLOCK_STEP] = min(2.0 * clock[CLOCK_STEP], options.h_max)
-        if target >= clock[CLOCK_TIME] - 1e-12 * max(1.0, abs(target)):
-            output_values(m, q, v, x, clock[CLOCK_TIME], values[s])
-        else:
-            _interpolate(m, ip, q, v, x, clock[CLOCK_TIME], target, drive_t, drive_x)
-            output_values(m, ip.state[0], ip.state[1], ip.state[2], target, values[s])
-        if not np.all(np.isfinite(values[s])):
+        if not record_sample(m, ip, q, v, x, clock[CLOCK_TIME], target, drive_t, drive_x, values[s]):
             return s
     return samples.size
+
+
+@njit(cache=True, inline="always")
+def record_sample(m: NodalModel, ip: Interpolant, q: np.ndarray, v: np.ndarray, x: np.ndarray, t: float,
+                  target: float, drive_t: np.ndarray, drive_x: np.ndarray, row: np.ndarray) -> bool:
+    """:func:`output_values` at the sample time ``target`` [s] into ``row``: of the state (at
+    time ``t`` [s]) when the step landed there, else interpolated inside the last step
+    (:func:`_interpolate`); whether they are finite."""
+    if target >= t - 1e-12 * max(1.0, abs(target)):
+        output_values(m, q, v, x, t, row)
+    else:
+        _interpolate(m, ip, q, v, x, t, target, drive_t, drive_x)
+        output_values(m, ip.state[0], ip.state[1], ip.state[2], target, row)
+    return bool(np.all(np.isfinite(row)))
