@@ -25,6 +25,7 @@ def _hand_t0() -> float:
 
 def _t0(elements: int) -> float:
     still = NodalSimulation.from_scene("snapping_cable_nodal", {"motion": {"type": "none"},
+                                                                "solver.integrator": "genalpha",
                                                                 "cable.segments[0].elements": elements})
     return still.initialize()["tension.top"]
 
@@ -127,7 +128,8 @@ enabled = false
 
 
 def _tmax_ratio(cls, scene: str, elements: int, h: float, duration: float) -> float:
-    sim = cls.from_scene(scene, {"solver.time_step": h, "cable.segments[0].elements": elements})
+    sim = cls.from_scene(scene, {"solver.integrator": "genalpha", "solver.time_step": h,
+                                 "cable.segments[0].elements": elements})
     sim.initialize()
     return sim.run(duration, interval=max(h, 5e-4))["tension.top"].max()
 
@@ -166,7 +168,8 @@ def test_a_collapsed_element_rejects_the_step_instead_of_raising():
     """snapping_cable_nodal at h = 4 ms: the first step's Newton iterate collapses an element
     to zero length; that must reject and halve the step (as any non-finite residual does),
     not raise ZeroDivisionError from the compiled kernel."""
-    sim = NodalSimulation.from_scene("snapping_cable_nodal", {"solver.time_step": 0.004})
+    sim = NodalSimulation.from_scene("snapping_cable_nodal", {"solver.integrator": "genalpha",
+                                                               "solver.time_step": 0.004})
     sim.initialize()
     series = sim.run(0.2, interval=0.01)
     assert np.all(np.isfinite(series["tension.top"]))

@@ -85,11 +85,13 @@ sys.exit(rc)
 """
 
 
-@pytest.mark.parametrize("scene", ["full_scale", pytest.param("sea_trial_turn_rigid", marks=pytest.mark.slow)])
+@pytest.mark.parametrize("scene", ["full_scale", pytest.param("sea_trial_turn_rigid", marks=pytest.mark.slow),
+                                   pytest.param("snapping_cable_nodal", marks=pytest.mark.slow)])
 def test_first_run_compiles_ahead_on_two_processes_and_nothing_during_the_run(tmp_path, scene):
     """A cold cache: the command line compiles the model's kernels ahead on two processes,
     each job the one signature the run calls; the run itself then compiles none (of ours or
-    numba's), and the next run compiles nothing (ANCF; nodal-position cable with a rigid body)."""
+    numba's), and the next run compiles nothing (ANCF; nodal-position cable with a rigid body;
+    nodal-position cable on the explicit path)."""
     env = dict(os.environ, TOWCABLE_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=str(ROOT))
     command = [sys.executable, "-c", _WATCHED_RUN, "run", scene, "--duration", "0.2", "--interval", "0.1",
                "--output", str(tmp_path / "out.csv")]

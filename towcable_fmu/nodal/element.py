@@ -65,7 +65,7 @@ def axial_force(m: NodalModel, e: int, q: np.ndarray, v: np.ndarray) -> tuple:
     l0 = m.L0[e]
     eps = length / l0 - 1.0
     eps_rate = (ux * (v[i + 3] - v[i]) + uy * (v[i + 4] - v[i + 1]) + uz * (v[i + 5] - v[i + 2])) / l0
-    elastic = 0.0 if (m.tension_only[e] and eps < 0.0) else m.EA[e] * eps
+    elastic = m.EA[e] * (max(eps, 0.0) if m.tension_only[e] else eps)
     factor = 1.0 if m.kelvin_voigt[e] else length / l0
     return factor * (elastic + m.BA[e] * eps_rate), length, ux, uy, uz
 

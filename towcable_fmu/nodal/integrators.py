@@ -31,7 +31,7 @@ from ..numerics.banded import band_lu, band_solve
 from ..numerics.hermite import step_weights
 from ..drive import evaluate_drive
 from .assembly import bandwidth, cable_residual, expand, iteration_matrix, residual
-from .element import axial_force
+from .element import add_element, axial_force
 from .model import NodalModel
 from ..rigid_body import attitude_ok
 
@@ -41,7 +41,8 @@ CLOCK_STEP = 1  #: current step size [s]
 
 GENALPHA = 0
 RK4 = 1
-INTEGRATORS = {"genalpha": GENALPHA, "rk4": RK4}
+LEAPFROG = 2  #: explicit, lumped masses: :mod:`.explicit`
+INTEGRATORS = {"genalpha": GENALPHA, "rk4": RK4, "leapfrog": LEAPFROG}
 # fields of the integrator's counters (NodalState.stats), named in STAT_NAMES
 STAT_STEPS = 0
 STAT_NEWTON = 1
@@ -86,9 +87,13 @@ def prescribe_top(m: NodalModel, drive_t: np.ndarray, drive_x: np.ndarray, t: fl
     if m.top_on_ship:
         ship = np.empty((3, 6))
         evaluate_drive(drive_t, drive_x, t, ship)
-        k = ship_point_kinematics(ship, m.top_point)
-        for c in range(3):
-            q[c], v[c], a[c] = k[0, c], k[1, c], k[2, c]
+        if ship[:, 3:].any():
+            k = ship_point_kinematics(ship, m.top_point)
+            for c in range(3):
+                q[c], v[c], a[c] = k[0, c], k[1, c], k[2, c]
+        else:  # a ship that does not rotate (now) carries the point with its origin: the same values
+            for c in range(3):
+                q[c], v[c], a[c] = ship[0, c] + m.top_point[c], ship[1, c], ship[2, c]
     else:
         for c in range(3):
             q[c], v[c], a[c] = m.top_point[c], 0.0, 0.0
@@ -211,13 +216,13 @@ def output_values(m: NodalModel, q: np.ndarray, v: np.ndarray, x: np.ndarray, t:
     element axial force [N], the last node's (towed body's) position [m] and velocity [m/s];
     with a rigid body its CG's position and velocity, then the force of the cable on the
     body [N] and the body's roll, pitch and yaw [rad] (:data:`.simulation.RIGID_NAMES`)."""
-    r = np.empty(q.size)
-    residual(m, q, v, x, t, r)
-    out[0] = math.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
-    out[1] = math.acos(min(max(abs(r[2]) / max(out[0], 1e-300), 0.0), 1.0))
     nq = 3 * m.n_nodes
     qn, vn, an = np.empty(nq), np.empty(nq), np.empty(nq)
     expand(m, q, v, x, qn, vn, an)
+    r = np.zeros(6)  # the top node's residual: the first element's part of it (no other reaches it)
+    add_element(m, 0, qn, vn, an, t, r)
+    out[0] = math.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
+    out[1] = math.acos(min(max(abs(r[2]) / max(out[0], 1e-300), 0.0), 1.0))
     hi, lo = -np.inf, np.inf
     for e in range(m.n_nodes - 1):
         n = axial_force(m, e, qn, vn)[0]
@@ -326,11 +331,20 @@ def advance_recording(m: NodalModel, options: NodalOptions, state: NodalState, s
             stats[STAT_STEPS] += 1
             if h == clock[CLOCK_STEP]:
                 clock[CLOCK_STEP] = min(2.0 * clock[CLOCK_STEP], options.h_max)
-        if target >= clock[CLOCK_TIME] - 1e-12 * max(1.0, abs(target)):
-            output_values(m, q, v, x, clock[CLOCK_TIME], values[s])
-        else:
-            _interpolate(m, ip, q, v, x, clock[CLOCK_TIME], target, drive_t, drive_x)
-            output_values(m, ip.state[0], ip.state[1], ip.state[2], target, values[s])
-        if not np.all(np.isfinite(values[s])):
+        if not record_sample(m, ip, q, v, x, clock[CLOCK_TIME], target, drive_t, drive_x, values[s]):
             return s
     return samples.size
+
+
+@njit(cache=True, inline="always")
+def record_sample(m: NodalModel, ip: Interpolant, q: np.ndarray, v: np.ndarray, x: np.ndarray, t: float,
+                  target: float, drive_t: np.ndarray, drive_x: np.ndarray, row: np.ndarray) -> bool:
+    """:func:`output_values` at the sample time ``target`` [s] into ``row``: of the state (at
+    time ``t`` [s]) when the step landed there, else interpolated inside the last step
+    (:func:`_interpolate`); whether they are finite."""
+    if target >= t - 1e-12 * max(1.0, abs(target)):
+        output_values(m, q, v, x, t, row)
+    else:
+        _interpolate(m, ip, q, v, x, t, target, drive_t, drive_x)
+        output_values(m, ip.state[0], ip.state[1], ip.state[2], target, row)
+    return bool(np.all(np.isfinite(row)))

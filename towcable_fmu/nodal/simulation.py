@@ -7,7 +7,9 @@ ANCF outputs (``tension.top``, ``angle.top``, ``tension.max``, ``tension.min``,
 ``tension.towbody`` and ``towbody.roll/pitch/yaw``); the ship motion comes from the scene's ``[motion]`` through
 ``ship_motion`` (``evaluate_many`` at knots no farther apart than the step, as
 :class:`towcable_fmu.simulation.Simulation` does). ``solver.integrator`` picks the
-implicit generalised-alpha (default) or the paper's explicit RK4.
+implicit generalised-alpha (default), the paper's explicit RK4 or the explicit leapfrog
+with lumped masses (:mod:`.explicit`; the scene's step must be below its stability limit,
+checked when the scene is loaded, :meth:`towcable_fmu.scene.model.Scene.validate`).
 """
 
 from __future__ import annotations
@@ -24,8 +26,9 @@ from ..scene.model import Scene
 from ..ship_input import motion_source
 from ..simulation_driver import SimulationDriver
 from .assembly import cable_residual, expand
-from .integrators import (CLOCK_STEP, CLOCK_TIME, INTEGRATORS, STAT_NAMES, NodalOptions, NodalState, accelerations,
-                          advance_recording, new_interpolant, new_state, output_values, prescribe_top)
+from .explicit import leapfrog_recording, lumped_accelerations, node_masses
+from .integrators import (CLOCK_STEP, CLOCK_TIME, INTEGRATORS, LEAPFROG, STAT_NAMES, NodalOptions, NodalState,
+                          accelerations, advance_recording, new_interpolant, new_state, output_values, prescribe_top)
 from .model import NodalModel, build_nodal_model, n_coordinates
 from .statics import solve_statics
 
@@ -64,6 +67,8 @@ class NodalSimulation(SimulationDriver):
         self.options = NodalOptions(INTEGRATORS[s.integrator], s.time_step, s.min_time_step,
                                     np.array(scheme_coefficients(s.rho_inf)), s.newton_tol, s.max_newton_iterations)
         n = n_coordinates(self.model)
+        #: the leapfrog's lumped node masses [kg] (None: an implicit or RK4 run)
+        self._lumped = node_masses(self.model) if self.options.method == LEAPFROG else None
         self.state = new_state(n, s.time_step)
         self._interpolant = new_interpolant(n)  # the last step's start, for samples inside it
         self.names = OUTPUT_NAMES + (BODY_NAMES if scene.towbody is not None else ())
@@ -107,7 +112,13 @@ class NodalSimulation(SimulationDriver):
             if not ok:
                 raise SolverError(f"the statics did not converge in {iterations} iterations "
                                   f"(out-of-balance force {res:.3g} N)")
-        if not accelerations(m, st.q, st.v, st.x, t0, st.stats):
+        if self._lumped is None:
+            ok = accelerations(m, st.q, st.v, st.x, t0, st.stats)
+        else:  # the leapfrog's own accelerations: lumped masses
+            lumped_accelerations(m, self._lumped, st.q, st.v, t0, np.zeros(st.q.size), np.empty(st.q.size),
+                                 np.empty((m.n_nodes, 6)), st.x)
+            ok = bool(np.all(np.isfinite(st.x)))
+        if not ok:
             raise SolverError("the initial state has no finite acceleration")
         st.acc[:] = st.x
 
@@ -122,11 +133,20 @@ class NodalSimulation(SimulationDriver):
         t0 = self.time
         values = np.zeros((1, _N_VALUES))
         drive = drive_poly.taylor_drive(t0, ship, (0.0, 0.0))
-        reached = advance_recording(self.model, self.options, self.state, np.array([t0 + dt]), *drive, values,
-                                    self._interpolant, False, t0 + dt)
+        reached = self._advance_recording(np.array([t0 + dt]), drive, values, False, t0 + dt)
         if reached < 1:
             raise SolverError(f"the {self._integrator} integrator could not advance from "
                               f"t = {t0:.6g} s by {dt:.6g} s")
+
+    def _advance_recording(self, samples: np.ndarray, drive: tuple[np.ndarray, np.ndarray], values: np.ndarray,
+                           interpolate: bool, t_land: float) -> int:
+        """The compiled recording loop of the scene's integrator (``advance_recording``'s
+        contract): samples reached."""
+        if self._lumped is not None:
+            return leapfrog_recording(self.model, self._lumped, self.options, self.state, samples, *drive, values,
+                                      self._interpolant, interpolate, t_land)
+        return advance_recording(self.model, self.options, self.state, samples, *drive, values, self._interpolant,
+                                 interpolate, t_land)
 
     def _state_arrays(self) -> tuple[np.ndarray, ...]:
         return tuple(self.state)
@@ -197,9 +217,10 @@ class NodalSimulation(SimulationDriver):
         """The integrator's own steps through ``block``, samples read from its interpolant."""
         marks = self._interpolation_marks(block, self.time, float(self._interpolant.t0[0]), self.options.h_max,
                                           t_land)
+        if self._lumped is not None:  # the leapfrog's steps are the knots: the samples need none of their own
+            marks = marks[[0, -1]]
         values = np.zeros((block.size, _N_VALUES))
-        reached = advance_recording(self.model, self.options, self.state, block,
-                                    *self._drive(marks, self.options.h_max), values, self._interpolant, True, t_land)
+        reached = self._advance_recording(block, self._drive(marks, self.options.h_max), values, True, t_land)
         rows[:reached] = values[:reached, :len(self.names)]
         return reached
 

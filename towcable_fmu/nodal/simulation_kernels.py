@@ -17,6 +17,7 @@ import numpy as np
 from ..parallel_compile import Job
 from ..scene import load_scene
 from .assembly import cable_residual, expand, iteration_matrix, residual
+from .explicit import leapfrog_recording, lumped_accelerations, node_masses
 from .integrators import accelerations, advance_recording, genalpha_step, output_values, prescribe_top, rk4_step
 from .simulation import NodalSimulation
 from .statics import solve_statics
@@ -75,6 +76,18 @@ def _advance_recording() -> tuple:
     return s.model, s.options, s.state, np.zeros(1), *_DRIVE, np.zeros((1, 1)), s._interpolant, True, 1.0
 
 
+def _lumped_accelerations() -> tuple:
+    s = _reference()
+    st = s.state
+    return s.model, node_masses(s.model), st.q, st.v, 0.0, st.q, st.q, np.zeros((1, 6)), st.x
+
+
+def _leapfrog_recording() -> tuple:
+    s = _reference()
+    return (s.model, node_masses(s.model), s.options, s.state, np.zeros(1), *_DRIVE, np.zeros((1, 1)),
+            s._interpolant, True, 1.0)
+
+
 def kernel_jobs() -> list[Job]:
     """The nodal simulation's kernels, callers after callees; costs measured on the 2-core
     machine class with both cores compiling [s]."""
@@ -92,4 +105,7 @@ def kernel_jobs() -> list[Job]:
         Job("nodal.solve_statics", solve_statics, _solve_statics, 2.5, core),
         Job("nodal.advance_recording", advance_recording, _advance_recording, 4.5,
             ("nodal.genalpha_step", "nodal.rk4_step", "nodal.output_values")),
+        Job("nodal.lumped_accelerations", lumped_accelerations, _lumped_accelerations, 3.0),
+        Job("nodal.leapfrog_recording", leapfrog_recording, _leapfrog_recording, 4.0,
+            ("nodal.lumped_accelerations", "nodal.prescribe_top", "nodal.output_values")),
     ]

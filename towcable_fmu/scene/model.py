@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from ..errors import SceneError
+from ..numerics.explicit_step import SAFETY, step_limit
 from .schema import spec
 
 
@@ -473,9 +474,12 @@ class SolverSettings:
     """Time integration: generalised-alpha with Newton on a banded Jacobian."""
 
     time_step: float = spec(0.01, unit="s", gt=0.0, le=10.0, doc="nominal (maximum) time step h")
-    integrator: str = spec("genalpha", choices=("genalpha", "rk4"),
+    integrator: str = spec("genalpha", choices=("genalpha", "rk4", "leapfrog"),
                            doc="genalpha: implicit generalised-alpha with Newton; rk4: explicit classical "
-                               "Runge-Kutta with fixed steps (cable.formulation = 'nodal_position' only)")
+                               "Runge-Kutta with fixed steps (cable.formulation = 'nodal_position' only); "
+                               "leapfrog: explicit, lumped masses, one force evaluation per step, time_step at "
+                               "most 0.9 times the mesh's stability limit (nodal_position with a lumped body only; "
+                               "towcable_fmu/nodal/explicit.py)")
     rho_inf: float = spec(0.8, unit="-", ge=0.0, le=1.0,
                           doc="spectral radius at infinite frequency (1: no numerical damping)")
     adaptive: bool = spec(False, doc="adapt the step to keep the local error estimate below rtol/atol")
@@ -559,10 +563,42 @@ class Scene:
                                  f"{getattr(fed, name)!r}, the fed segment's (cable.segments[{gear}]): the paid-out "
                                  "cable flows through the gear's segments")
 
+    def explicit_step(self) -> float:
+        """The largest step [s] the explicit leapfrog takes on this scene's mesh: SAFETY times
+        its stability limit (:mod:`towcable_fmu.numerics.explicit_step`), whatever the formulation."""
+        segs = [s for s in self.cable.segments for _ in range(s.elements)]
+        lumped = self.towbody is not None and self.towbody.model == "lumped"
+        end_mass = self.cable.bottom.mass + (self.towbody.mass if lumped else 0.0)
+        def col(name: str) -> np.ndarray:
+            return np.array([getattr(s, name) for s in segs], dtype=float)
+
+        lengths = np.array([s.length / s.elements for s in segs])
+        return SAFETY * step_limit(lengths, col("EA"), col("damping"), col("mass_per_length"), end_mass)
+
+    def _check_explicit(self) -> None:
+        """What solver.integrator = 'leapfrog' represents: a nodal-position cable with a lumped
+        body, at a step within its stability limit."""
+        need = f"{self.explicit_step():.4g} s"
+        if self.cable.formulation != "nodal_position":
+            raise SceneError("solver.integrator", "leapfrog",
+                             f"'genalpha' unless cable.formulation = 'nodal_position' (the explicit path has no "
+                             f"bending, winch, sheave or contact; on this mesh it would need solver.time_step <= "
+                             f"{need})")
+        if self.towbody is not None and self.towbody.model == "rigid":
+            raise SceneError("solver.integrator", "leapfrog", "'genalpha' or 'rk4' with towbody.model = 'rigid' "
+                                                              "(the explicit path lumps the body at the last node)")
+        if self.solver.time_step > self.explicit_step() * (1.0 + 1e-9):  # (the limit's own round-off)
+            raise SceneError("solver.time_step", self.solver.time_step,
+                             f"<= {need} with solver.integrator = 'leapfrog': {SAFETY:g} times the stability limit "
+                             f"of this mesh ({self.explicit_step() / SAFETY:.4g} s; more elements need shorter "
+                             f"steps)")
+
     def validate(self, key: str) -> None:
         """Cross-section checks."""
         if self.solver.integrator == "rk4" and self.cable.formulation != "nodal_position":
             raise SceneError("solver.integrator", "rk4", "'genalpha' unless cable.formulation = 'nodal_position'")
+        if self.solver.integrator == "leapfrog":
+            self._check_explicit()
         if (self.cable.top.type in ("winch", "spool")) != (self.winch is not None):
             raise SceneError("cable.top.type", self.cable.top.type, "'winch' or 'spool' exactly when a [winch] is "
                                                                     "given")
