@@ -99,9 +99,14 @@ class ShipMotion(ContractSlave):
         self.motion = motion_from_config(table, key="motion", base_dir=base)
         self._built_from = tuple(sorted(params.items()))
 
-    def _evaluate(self, t: float) -> None:
+    def _ship_state(self, t: float) -> list[float]:
+        """The 18 outputs at time ``t`` [s]: position/attitude [m, rad], rates [m/s, rad/s]
+        and accelerations [m/s^2, rad/s^2], in the order of the contract."""
         state = self.timed(self.motion.evaluate, t).ravel()
-        self.set_outputs(dict(zip(self._names, state.tolist())))
+        return state.tolist()
+
+    def _evaluate(self, t: float) -> None:
+        self.set_outputs(dict(zip(self._names, self._ship_state(t))))
 
     def _initialize(self) -> None:
         self._build()
@@ -123,7 +128,7 @@ class ShipMotion(ContractSlave):
     def _step(self, t: float, dt: float) -> bool:
         # the 18 outputs straight into the values (set_outputs' name matching worked out at
         # initialisation: the same 18 names at every step)
-        state = self.timed(self.motion.evaluate, t + dt).ravel().tolist()
+        state = self._ship_state(t + dt)
         if not all(map(math.isfinite, state)):
             raise ValueError(f"the ship state at t = {t + dt:.6g} s is not finite")
         self.values.update(zip(self._names, state))
