@@ -17,8 +17,11 @@
  *
  * Each instance: fmi2Instantiate, parameters, fmi2SetupExperiment(t0, t1),
  * fmi2EnterInitializationMode, inputs of row 0, fmi2ExitInitializationMode, outputs at
- * t0; then for k = 0, 1, ...: inputs of row k, fmi2DoStep(t_k, H), outputs at t_{k+1}
- * (the order of fmpy's simulate_fmu); fmi2Terminate (if no call failed: after an error
+ * t0; then for k = 0, 1, ...: inputs of row k, fmi2DoStep(t_k, t_{k+1} - t_k), outputs at
+ * t_{k+1}, with t_k = t0 + k H (the calls and arguments of fmpy's simulate_fmu: each step
+ * ends exactly where the next one starts, whereas t_k + H is t_{k+1} only to an ulp, and
+ * a stiff model turns that difference of its clock into 1e-4 N within 10 s);
+ * fmi2Terminate (if no call failed: after an error
  * FMI 2.0 allows only fmi2Reset and fmi2FreeInstance), fmi2FreeInstance. OUT.csv holds
  * the first instance's outputs; the largest difference of a later instance to them is
  * printed. Exit status: 0 all calls fmi2OK, 1 bad arguments, 2 fmi2Instantiate failed,
@@ -215,9 +218,9 @@ static int run(const Api *api, const Plan *plan, const char *uri, const double *
     ok = ok && api->ExitInitializationMode(c) == fmi2OK;
     ok = ok && record(api, c, plan, out);
     for (size_t k = 0; ok && k < steps; k++) {
-        double t = plan->start + (double)k * plan->step;
+        double t = plan->start + (double)k * plan->step, next = plan->start + (double)(k + 1) * plan->step;
         ok = set_inputs(api, c, plan, inputs, nrows, k, t)
-             && api->DoStep(c, t, plan->step, fmi2True) == fmi2OK
+             && api->DoStep(c, t, next - t, fmi2True) == fmi2OK
              && record(api, c, plan, out + (k + 1) * width);
     }
     ok = ok && api->Terminate(c) == fmi2OK;
