@@ -3,7 +3,7 @@
 
     python build_fmu.py [--output DIR] [--standalone] [--check] [--ssp] [--crosscheck DIR] [--no-native] [--no-kernels] [NAME ...]
 
-The work is done by :func:`towcable_fmu.fmi.build.build_fmus` (also used by the tests and
+The work is done by :func:`towcable_fmu.fmu_build.build.build_fmus` (also used by the tests and
 by ``towcable cosim``); the command line is :mod:`towcable_fmu.build_command`. Each FMU
 carries the towcable code it runs, TowCable also its numerical kernels precompiled for
 x86-64-v3 CPUs (``--no-kernels`` leaves them out); ``--standalone`` also carries a Python runtime, for

@@ -78,7 +78,7 @@ def fresh_venv(folder: Path) -> Path:
     import os
     from importlib.metadata import version
 
-    from towcable_fmu.fmi.build import requirements_text
+    from towcable_fmu.fmu_build.build import requirements_text
 
     subprocess.run([sys.executable, "-m", "venv", str(folder)], check=True)
     (folder / "requirements.txt").write_text(requirements_text(), encoding="utf-8")
@@ -90,7 +90,7 @@ def fresh_venv(folder: Path) -> Path:
 
 
 def main() -> int:
-    from towcable_fmu.fmi.build import build_fmus
+    from towcable_fmu.fmu_build.build import build_fmus
 
     with tempfile.TemporaryDirectory(prefix="fmu_start_") as tmp:
         tmp = Path(tmp)

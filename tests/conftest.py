@@ -38,7 +38,7 @@ def make_sim():
 @pytest.fixture(scope="session")
 def fmu_paths(tmp_path_factory):
     """The three FMUs, built once per test session into a temporary folder."""
-    from towcable_fmu.fmi.build import build_fmus
+    from towcable_fmu.fmu_build.build import build_fmus
 
     return build_fmus(tmp_path_factory.mktemp("fmus"))
 
@@ -66,7 +66,7 @@ def fresh_venv(tmp_path_factory):
     import sys
     from importlib.metadata import version
 
-    from towcable_fmu.fmi.build import requirements_text
+    from towcable_fmu.fmu_build.build import requirements_text
 
     venv = tmp_path_factory.mktemp("fresh") / "venv"
     subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True, timeout=600)
@@ -85,7 +85,7 @@ def host(tmp_path_factory):
     import subprocess
     from pathlib import Path
 
-    from towcable_fmu.fmi import native
+    from towcable_fmu.fmu_build import native
 
     exe = tmp_path_factory.mktemp("c_host") / "fmu_host"
     sources = sorted(str(p) for p in (Path(__file__).parent / "c_host").glob("*.c"))

@@ -440,7 +440,7 @@ class Executor:
 
 def envelope(raw: bytes) -> dict:
     """The fields of serialised state bytes, read here from the layout of
-    ``towcable_fmu/fmi/csrc/state_bytes.h``; ``crc_ok`` compares the checksum with zlib's."""
+    ``towcable_fmu/fmu_build/csrc/state_bytes.h``; ``crc_ok`` compares the checksum with zlib's."""
     magic, version, phase, name_length = struct.unpack_from("<8sIII", raw, 0)
     at = 20 + name_length
     name = raw[20:at].decode()

@@ -9,7 +9,7 @@ import zipfile
 import pytest
 
 from towcable_fmu import contract
-from towcable_fmu.fmi import build
+from towcable_fmu.fmu_build import build
 
 
 def model_description(path) -> ET.Element:
@@ -107,7 +107,7 @@ def test_annotation_rejects_variables_that_differ_from_the_contract(fmu_paths):
 
 def test_the_installed_package_carries_every_source_of_the_loader_layer():
     """A non-editable install (``pip install .``) builds FMUs from the installed package: every
-    file of ``fmi/csrc`` (sources and headers) must be package data, or the loader layer
+    file of ``fmu_build/csrc`` (sources and headers) must be package data, or the loader layer
     does not compile and the FMUs lose the FMI state machine."""
     import tomllib
     from pathlib import Path
@@ -116,7 +116,7 @@ def test_the_installed_package_carries_every_source_of_the_loader_layer():
     patterns = tomllib.loads((root / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["setuptools"][
         "package-data"]["towcable_fmu"]
     package = root / "towcable_fmu"
-    sources = [p.relative_to(package) for p in (package / "fmi" / "csrc").iterdir() if p.is_file()]
+    sources = [p.relative_to(package) for p in (package / "fmu_build" / "csrc").iterdir() if p.is_file()]
     assert {p.suffix for p in sources} >= {".c", ".h"}
     missing = [str(p) for p in sources if not any(p.match(pattern) for pattern in patterns)]
     assert not missing, f"not package data in pyproject.toml: {missing}"

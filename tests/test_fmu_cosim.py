@@ -139,7 +139,7 @@ def steady(fmu_paths):
 
 @pytest.fixture(scope="module")
 def ssp_file(fmu_paths, steady, tmp_path_factory):
-    from towcable_fmu.fmi.ssp import write_ssp
+    from towcable_fmu.fmu_build.ssp import write_ssp
 
     return write_ssp(tmp_path_factory.mktemp("ssp") / "TowedCableSystem.ssp", fmu_paths, steady.parameters,
                      stop_time=0.4)

@@ -23,7 +23,7 @@ import pytest
 from test_fmu_portable import build_machine_paths, clean_env
 
 from towcable_fmu import machine_cache
-from towcable_fmu.fmi import build, kernels
+from towcable_fmu.fmu_build import build, kernels
 
 TARGET = machine_cache.CARRIED_TARGET
 V3_FLAGS = "fpu sse2 cx16 lahf_lm popcnt sse4_1 sse4_2 ssse3 avx avx2 bmi1 bmi2 f16c fma abm movbe xsave"

@@ -5,7 +5,7 @@ runs with an environment stripped of every PYTHON* variable: the FMU must find a
 Python by itself, here the machine Python named by ``TOWCABLE_PYTHON`` (this venv's; the
 standalone FMUs, which carry their own, are tested in test_fmu_standalone.py). Its
 outputs are compared with fmpy's (the cross-check reference,
-``towcable_fmu.fmi.crosscheck``) for the same inputs.
+``towcable_fmu.fmu_build.crosscheck``) for the same inputs.
 """
 
 from __future__ import annotations
@@ -23,8 +23,8 @@ import numpy as np
 import pytest
 
 from towcable_fmu import contract
-from towcable_fmu.fmi import crosscheck as xc
-from towcable_fmu.fmi import native
+from towcable_fmu.fmu_build import crosscheck as xc
+from towcable_fmu.fmu_build import native
 
 VALGRIND = shutil.which("valgrind") or "/usr/bin/valgrind"
 needs_valgrind = pytest.mark.skipif(not os.access(VALGRIND, os.X_OK), reason="no valgrind")

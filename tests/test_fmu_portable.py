@@ -24,8 +24,8 @@ import numpy as np
 import pytest
 
 from towcable_fmu import contract, machine_cache
-from towcable_fmu.fmi import bundle, build
-from towcable_fmu.fmi import crosscheck as xc
+from towcable_fmu.fmu_build import bundle, build
+from towcable_fmu.fmu_build import crosscheck as xc
 
 from fmu_util import open_fmu
 
@@ -266,7 +266,7 @@ def foreign(tmp_path_factory):
     fmu_py.write_text(text.replace(old, old + "        state[2] += 1.0  # the foreign sources' difference\n"),
                       encoding="utf-8")
     out = tmp / "out"
-    subprocess.run([sys.executable, "-c", "import sys; from towcable_fmu.fmi.build import build_fmus; "
+    subprocess.run([sys.executable, "-c", "import sys; from towcable_fmu.fmu_build.build import build_fmus; "
                     f"build_fmus({str(out)!r}, ['ShipMotion'])"], check=True, cwd=tmp,
                    env=clean_env(PYTHONPATH=str(src)), timeout=600)
     src.rename(tmp / "src_moved")

@@ -24,9 +24,9 @@ import numpy as np
 import pytest
 
 from towcable_fmu import contract, machine_cache
-from towcable_fmu.fmi import crosscheck as xc
-from towcable_fmu.fmi import native
-from towcable_fmu.fmi.runtime import glibc_needed
+from towcable_fmu.fmu_build import crosscheck as xc
+from towcable_fmu.fmu_build import native
+from towcable_fmu.fmu_build.runtime import glibc_needed
 
 from test_fmu_native import assert_round_off, write_plan
 
@@ -42,7 +42,7 @@ needs_namespaces = pytest.mark.skipif(
 @pytest.fixture(scope="session")
 def standalone_paths(tmp_path_factory):
     """The three standalone FMUs, built once per test session."""
-    from towcable_fmu.fmi.build import build_fmus
+    from towcable_fmu.fmu_build.build import build_fmus
 
     return build_fmus(tmp_path_factory.mktemp("standalone"), standalone=True)
 
@@ -134,7 +134,7 @@ def test_standalone_towcable_with_its_kernels_compiles_nothing_on_a_machine_with
                                                                                          tmp_path):
     """The FMU ``build_fmu.py --standalone`` writes, on a machine that never ran it (empty
     cache) and has no Python: initialised without compiling a kernel."""
-    from towcable_fmu.fmi.build import build_fmus
+    from towcable_fmu.fmu_build.build import build_fmus
 
     fmu = build_fmus(tmp_path / "built", ["TowCable"], standalone=True, kernels=True)["TowCable"]
     exp = xc.Experiment(0.0, 0.2, 0.01, 1e-4, ("tension.sheave", "towbody.z"))
@@ -196,7 +196,7 @@ def test_ecos_runs_the_ssp_of_standalone_fmus_as_the_master_does(standalone_path
     within the step, see towcable_fmu/cosim); without compensation the set-point is constant, so
     both see the same inputs. ecos writes 6 decimals."""
     from towcable_fmu.cosim import CosimConfig, run_cosim
-    from towcable_fmu.fmi.ssp import PARAMETER_SET, write_ssp
+    from towcable_fmu.fmu_build.ssp import PARAMETER_SET, write_ssp
 
     master = run_cosim(CosimConfig(duration=1.0, step=0.01, compensation="none", ship_parameters=WAVES),
                        fmus=fmu_paths, echo=False)

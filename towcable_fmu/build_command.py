@@ -1,6 +1,6 @@
 """Command line of ``build_fmu.py``: build, check and package the FMUs.
 
-A command (above the layers it uses): it builds with :mod:`towcable_fmu.fmi.build`, and
+A command (above the layers it uses): it builds with :mod:`towcable_fmu.fmu_build.build`, and
 for ``--ssp`` initialises the default ``towcable cosim`` case through
 :mod:`towcable_fmu.cosim` to bind its parameters in the SSP file.
 """
@@ -12,15 +12,15 @@ import sys
 from pathlib import Path
 
 from . import contract
-from .fmi.build import FmuCheckError, build_fmus, check_fmus
-from .fmi.runtime import glibc_needed
+from .fmu_build.build import FmuCheckError, build_fmus, check_fmus
+from .fmu_build.runtime import glibc_needed
 
 
 def write_default_case_ssp(path: Path, fmus: dict[str, Path]) -> Path:
     """The SSP file of the default ``towcable cosim`` case, every parameter the master sets
     bound (the nominal departure angle is the one it resolves at initialisation)."""
     from .cosim import CosimConfig, run_cosim
-    from .fmi.ssp import write_ssp
+    from .fmu_build.ssp import write_ssp
 
     config = CosimConfig()
     first = run_cosim(CosimConfig(duration=config.step, step=config.step), echo=False, fmus=fmus)
@@ -67,7 +67,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.ssp:
         print(f"wrote {write_default_case_ssp(Path(args.output) / 'TowedCableSystem.ssp', paths)}")
     if args.crosscheck:
-        from .fmi.crosscheck import write_crosscheck
+        from .fmu_build.crosscheck import write_crosscheck
 
         for folder in write_crosscheck(paths, args.crosscheck).values():
             print(f"wrote {folder}")

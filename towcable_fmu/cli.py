@@ -140,8 +140,8 @@ def cmd_cosim(args: argparse.Namespace) -> int:
     files = write_results(result, Path(args.output), plot=not args.no_plot,
                           title=f"co-simulation of '{args.scene}', compensation {result.parameters['HeaveCompensation']['algorithm']}")
     if args.ssp:
-        from .fmi.build import ensure_fmus
-        from .fmi.ssp import write_ssp
+        from .fmu_build.build import ensure_fmus
+        from .fmu_build.ssp import write_ssp
 
         files["ssp"] = write_ssp(args.ssp, ensure_fmus(args.fmus), result.parameters, start_time=0.0,
                                  stop_time=args.duration)

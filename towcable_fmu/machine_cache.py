@@ -2,7 +2,7 @@
 
 Standard library only and no package-relative import: an FMU carries this file as a
 top-level module (``resources/<bundle>_activate.py``, see
-:mod:`towcable_fmu.fmi.bundle`) and runs it before its own package can be imported.
+:mod:`towcable_fmu.fmu_build.bundle`) and runs it before its own package can be imported.
 
 The cache folder (:func:`cache_root`) is ``$TOWCABLE_CACHE_DIR``, else
 ``$NUMBA_CACHE_DIR/towcable``, else ``$XDG_CACHE_HOME/towcable`` or
@@ -37,7 +37,7 @@ from pathlib import Path
 
 #: File of a bundle listing ``<sha256>  <relative path>`` for each of its files.
 MANIFEST = "MANIFEST.sha256"
-#: Our packages (an FMU carries all three, see towcable_fmu/fmi/bundle.py).
+#: Our packages (an FMU carries all three, see towcable_fmu/fmu_build/bundle.py).
 PACKAGES = ("towcable_fmu", "ship_motion", "controllers")
 #: Files of the packages that are not code: caches and build inputs of the loader.
 _SKIP_DIRS = {"__pycache__", "csrc"}

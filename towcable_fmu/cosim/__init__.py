@@ -1,6 +1,6 @@
 """Co-simulation master: ShipMotion -> HeaveCompensation -> TowCable on fmpy's low-level API.
 
-The three FMUs (built by ``build_fmu.py`` / :func:`towcable_fmu.fmi.build.ensure_fmus`)
+The three FMUs (built by ``build_fmu.py`` / :func:`towcable_fmu.fmu_build.build.ensure_fmus`)
 are driven with ``fmpy.fmi2.FMU2Slave`` at a fixed communication step ``h``. Which
 output feeds which input comes from the contract (``[system]`` in
 ``towcable_fmu/contract.toml``); nothing here names a signal except for plotting.

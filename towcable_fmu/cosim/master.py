@@ -30,7 +30,7 @@ def run_cosim(config: CosimConfig, progress: Callable[[float, float], None] | No
     echo
         Print the FMUs' warnings and errors on stderr.
     fmus
-        FMU name -> ``.fmu`` file; default: :func:`~towcable_fmu.fmi.build.ensure_fmus` in ``config.fmu_dir``.
+        FMU name -> ``.fmu`` file; default: :func:`~towcable_fmu.fmu_build.build.ensure_fmus` in ``config.fmu_dir``.
 
     Returns
     -------
@@ -49,7 +49,7 @@ def run_cosim(config: CosimConfig, progress: Callable[[float, float], None] | No
         Invalid configuration.
     """
     from ..errors import SceneError
-    from ..fmi.build import ensure_fmus
+    from ..fmu_build.build import ensure_fmus
     from ..scene import load_scene
 
     for name, value in (("duration", config.duration), ("step", config.step)):

@@ -4,7 +4,7 @@ pythonfmu 0.7 turns any Python exception that leaves a slave method into ``fmi2F
 and releases the Python instance (later calls on it are undefined), and its C layer
 returns ``fmi2OK`` from every call that does not raise. The slaves therefore never
 raise: :class:`ContractSlave` wraps every entry point and logs the reason with the
-status the call should have; the FMU's loader layer (``towcable_fmu/fmi/csrc/
+status the call should have; the FMU's loader layer (``towcable_fmu/fmu_build/csrc/
 fmu_loader.c``) passes such messages to the host whatever its logging setting and makes
 the call return the most severe status logged during it. So
 

@@ -198,7 +198,7 @@ def run_sweep(spec: SweepSpec, *, workers: int | None = None, scheduler: str | N
     todo = [c for c in cases if c.case_id not in done]
     fmus = None
     if spec.settings.mode == "cosim" and todo:
-        from ..fmi.build import ensure_fmus
+        from ..fmu_build.build import ensure_fmus
 
         fmus = {k: Path(v).resolve() for k, v in ensure_fmus(spec.settings.fmu_dir).items()}
     line = ProgressLine(len(todo), stream=sys.stderr if progress else None)

@@ -2,7 +2,7 @@
 contract is instantiated and initialised, and takes two communication steps, on every
 built-in scene its ``scene`` parameter accepts (the others on their defaults).
 
-The build runs this in a separate Python (:mod:`towcable_fmu.fmi.kernels`) to fill the
+The build runs this in a separate Python (:mod:`towcable_fmu.fmu_build.kernels`) to fill the
 kernel cache that an FMU then carries precompiled.
 """
 
@@ -20,7 +20,7 @@ STEP = 0.01
 
 #: Prefix of our package names in this copy of the code: ``towcable_<digest>.`` in an
 #: FMU's bundle, empty where installed (the contract names the slaves without it).
-_PREFIX = __name__.removesuffix("towcable_fmu.fmi.warmup")
+_PREFIX = __name__.removesuffix("towcable_fmu.fmu_build.warmup")
 
 
 def _slave_class(spec: contract.FmuSpec):

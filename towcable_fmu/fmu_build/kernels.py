@@ -4,7 +4,7 @@ nothing.
 numba keys a cached kernel by its CPU target, so the kernels are compiled for a
 portable one, :data:`towcable_fmu.machine_cache.CARRIED_TARGET` (x86-64-v3), by a separate
 Python (``NUMBA_CPU_NAME`` set) that imports the FMU's own bundle the way an FMU does and
-runs every FMU on every built-in scene (:mod:`towcable_fmu.fmi.warmup`). The result stays
+runs every FMU on every built-in scene (:mod:`towcable_fmu.fmu_build.warmup`). The result stays
 in the machine cache (below), so the next build of the same code reuses it; the FMU carries it as ``resources/kernels/<target>/towcable-<digest>/``,
 and :func:`towcable_fmu.machine_cache.use_carried_kernels` installs it where it runs.
 
@@ -42,7 +42,7 @@ import json, sys
 from importlib import import_module
 sys.path.insert(0, sys.argv[1])
 import_module(sys.argv[2] + "_activate").import_bundle(sys.argv[2])
-warmup = import_module(sys.argv[2] + ".towcable_fmu.fmi.warmup")
+warmup = import_module(sys.argv[2] + ".towcable_fmu.fmu_build.warmup")
 warmup.compile_kernels(lambda line: print(line, file=sys.stderr, flush=True))
 kernel_cache = import_module(sys.argv[2] + ".towcable_fmu.kernel_cache")
 print(json.dumps({"folder": kernel_cache.kernel_folder().name}))

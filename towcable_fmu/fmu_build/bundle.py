@@ -108,7 +108,7 @@ def bundle(files: dict[str, bytes] | None = None) -> tuple[str, dict[str, bytes]
     files = package_files() if files is None else files
     name = bundle_name(files)
     inner = {"__init__.py": (f'"""towcable code carried by an FMU (bundle {name}, '
-                             f'written by towcable_fmu.fmi.bundle)."""\n').encode()}
+                             f'written by towcable_fmu.fmu_build.bundle)."""\n').encode()}
     for rel, data in files.items():
         if rel.endswith(".py"):
             data = rewrite_imports(data.decode("utf-8"), name, rel).encode("utf-8")

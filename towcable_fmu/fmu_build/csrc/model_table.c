@@ -2,7 +2,7 @@
  * modelDescription.xml read with a small scanner: the root element's guid and each
  * ScalarVariable's attributes and type element. The file is the copy in resources/ (a
  * host need not extract the archive's root file), written by
- * towcable_fmu/fmi/build.py (ElementTree: attribute values escape '"', '<' and '>'), so
+ * towcable_fmu/fmu_build/build.py (ElementTree: attribute values escape '"', '<' and '>'), so
  * an attribute is ` key="value"` inside its start tag.
  */
 #include "model_table.h"

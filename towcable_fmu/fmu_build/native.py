@@ -4,7 +4,7 @@ pythonfmu 0.7 puts a library into ``binaries/linux64/<model>.so`` that leaves th
 symbols unresolved (it only loads in a process that already runs Python), drops the log
 messages when the host turned logging off and cannot return ``fmi2Error``.
 :func:`loader_entries` replaces that binary by a thin C layer
-(``towcable_fmu/fmi/csrc/fmu_loader.c``, compiled by :func:`compile_loader` with the
+(``towcable_fmu/fmu_build/csrc/fmu_loader.c``, compiled by :func:`compile_loader` with the
 machine's C compiler) and keeps pythonfmu's library beside it as
 ``binaries/linux64/libpythonfmu-export.so``. At the first ``fmi2Instantiate`` the layer
 uses the Python already in the process, else the runtime a standalone FMU carries, else

@@ -10,14 +10,14 @@ the same sources (sorted entries, fixed dates):
   ``initial="calculated"`` and listed in ``ModelStructure/InitialUnknowns``, and a GUID
   derived from the archive's content (:func:`annotate_model_description`);
 * ``resources/``: the bundle of our packages under a private name
-  (:mod:`towcable_fmu.fmi.bundle`), its activation module
+  (:mod:`towcable_fmu.fmu_build.bundle`), its activation module
   (:mod:`towcable_fmu.machine_cache`), a one-statement entry script per FMU, pythonfmu's
   Python package (as pythonfmu's own builder embeds it), ``requirements.txt`` (the
   third-party packages, pythonfmu's convention, so ``pythonfmu deploy`` installs them),
-  for a standalone FMU a Python runtime (:mod:`towcable_fmu.fmi.runtime`) and, with
+  for a standalone FMU a Python runtime (:mod:`towcable_fmu.fmu_build.runtime`) and, with
   ``kernels=True`` (``build_fmu.py``'s default), TowCable's numerical kernels precompiled
-  (:mod:`towcable_fmu.fmi.kernels`);
-* ``binaries/linux64/<model>.so``: the loader layer (:mod:`towcable_fmu.fmi.native`,
+  (:mod:`towcable_fmu.fmu_build.kernels`);
+* ``binaries/linux64/<model>.so``: the loader layer (:mod:`towcable_fmu.fmu_build.native`,
   compiled here) in front of pythonfmu's library; ``binaries/win64/<model>.dll``:
   pythonfmu's (not in standalone FMUs: it needs an installed Python).
 
@@ -184,12 +184,12 @@ def entry_script(spec: contract.FmuSpec, package: str) -> str:
     """
     module, cls = spec.slave.split(":")
     return (f'"""{spec.name} FMU entry point, written by build_fmu.py: the slave {module}.{cls} of the\n'
-            f'code this FMU carries (package {package}, see towcable_fmu/fmi/bundle.py)."""\n\n'
+            f'code this FMU carries (package {package}, see towcable_fmu/fmu_build/bundle.py)."""\n\n'
             "import sys\n\n"
             f"from {package}_activate import activate\n\n"
             f'{cls} = activate("{package}", "{module}", "{cls}", __file__)\n\n'
-            "sys.path[:] = dict.fromkeys(sys.path)  # see towcable_fmu/fmi/build.py\n"
-            'globals().setdefault("_pythonfmu_dict_refs", []).append(globals())  # see towcable_fmu/fmi/build.py\n')
+            "sys.path[:] = dict.fromkeys(sys.path)  # see towcable_fmu/fmu_build/build.py\n"
+            'globals().setdefault("_pythonfmu_dict_refs", []).append(globals())  # see towcable_fmu/fmu_build/build.py\n')
 
 
 def requirements_text() -> str:
@@ -231,14 +231,14 @@ def fmu_files(spec: contract.FmuSpec, package: str, carried: dict[str, bytes], l
     spec
         The FMU.
     package, carried
-        The bundle's package name and its files (:func:`towcable_fmu.fmi.bundle.bundle`,
+        The bundle's package name and its files (:func:`towcable_fmu.fmu_build.bundle.bundle`,
         paths relative to ``resources/``).
     loader
         The compiled loader layer, or None to keep pythonfmu's Linux binary.
     runtime
         A standalone FMU's Python runtime (paths relative to ``resources/python/``), or None.
     kernels
-        Precompiled kernels (:func:`towcable_fmu.fmi.kernels.carried_kernels`), or None.
+        Precompiled kernels (:func:`towcable_fmu.fmu_build.kernels.carried_kernels`), or None.
         They are a cache of the carried code, not byte-reproducible: the GUID leaves them out.
     """
     entry = f"{spec.name.lower()}_entry_{package.removeprefix('towcable_')}"
@@ -312,15 +312,15 @@ def build_fmus(outdir: str | Path = "fmus", names: Iterable[str] | None = None, 
     check
         Run :func:`check_fmus` on the result.
     native_loader
-        Install the loader layer (:mod:`towcable_fmu.fmi.native`): the FMUs then also run
+        Install the loader layer (:mod:`towcable_fmu.fmu_build.native`): the FMUs then also run
         in hosts without Python, report errors whatever the host's logging setting and
         return ``fmi2Error`` for them. Without a C compiler it is left out with a warning.
     standalone
-        Also carry a Python runtime (:mod:`towcable_fmu.fmi.runtime`): the FMUs then run
+        Also carry a Python runtime (:mod:`towcable_fmu.fmu_build.runtime`): the FMUs then run
         on a Linux x86-64 machine without any Python installed (needs the loader layer).
     kernels
         The FMUs that compile kernels (TowCable) carry them precompiled
-        (:mod:`towcable_fmu.fmi.kernels`): their first use on another machine compiles
+        (:mod:`towcable_fmu.fmu_build.kernels`): their first use on another machine compiles
         nothing. The first build of a version of the code compiles them (minutes).
 
     Returns

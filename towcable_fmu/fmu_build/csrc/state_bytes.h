@@ -7,7 +7,7 @@
  *     GUID length u32 | GUID | payload length u64 | payload | CRC-32 (IEEE) u32
  *
  * name is the FMU's modelIdentifier, GUID that of its modelDescription.xml (a digest
- * of the archive's content, towcable_fmu/fmi/build.py), phase the state machine's
+ * of the archive's content, towcable_fmu/fmu_build/build.py), phase the state machine's
  * state when the state was taken, and the CRC covers every byte before it.
  */
 #ifndef TOWCABLE_STATE_BYTES_H
