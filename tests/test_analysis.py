@@ -179,7 +179,7 @@ def study(fmu_paths, tmp_path_factory):
 
 
 def full_scale_table() -> dict:
-    path = Path(towcable_fmu.__file__).parent / "scenes" / "full_scale.toml"
+    path = Path(towcable_fmu.__file__).parent / "builtin_scenes" / "full_scale.toml"
     return tomllib.loads(path.read_text(encoding="utf-8"))
 
 

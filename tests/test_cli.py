@@ -100,7 +100,7 @@ def test_bad_value_in_a_scene_file_names_key_value_and_allowed_range(tmp_path, c
     """The same message for a user's TOML file (not only for --set)."""
     from importlib import resources
 
-    text = (resources.files("towcable_fmu") / "scenes" / "hanging_cable.toml").read_text(encoding="utf-8")
+    text = (resources.files("towcable_fmu") / "builtin_scenes" / "hanging_cable.toml").read_text(encoding="utf-8")
     assert "mass = 250.0" in text
     bad = tmp_path / "bad.toml"
     bad.write_text(text.replace("mass = 250.0", "mass = -250.0"))

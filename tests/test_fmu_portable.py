@@ -82,7 +82,7 @@ def test_the_bundle_imports_nothing_of_ours_by_the_public_names():
             modules = ([node.module] if isinstance(node, ast.ImportFrom) and node.level == 0 else
                        [a.name for a in node.names] if isinstance(node, ast.Import) else [])
             assert not any(m and m.split(".")[0] in bundle.PACKAGES for m in modules), (path, node.lineno)
-    assert f"{name}/{machine_cache.MANIFEST}" in files and f"{name}/towcable_fmu/scenes/full_scale.toml" in files
+    assert f"{name}/{machine_cache.MANIFEST}" in files and f"{name}/towcable_fmu/builtin_scenes/full_scale.toml" in files
 
 
 # ---------------------------------------------------------------------- the archives

@@ -462,7 +462,7 @@ def test_sweep_plot_command_writes_heatmap_and_exceedance(local_sweep, capsys):
     assert "--statistic = 'nope' is invalid" in capsys.readouterr().err
 
 
-EXAMPLE = Path(__file__).parents[1] / "towcable_fmu" / "sweeps" / "example.toml"
+EXAMPLE = Path(__file__).parents[1] / "towcable_fmu" / "example_sweeps" / "example.toml"
 
 
 def test_example_spec_is_valid():

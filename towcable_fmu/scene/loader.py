@@ -1,7 +1,7 @@
 """Finding, reading and overriding scene files.
 
 A scene is named either by a built-in name (a file ``<name>.toml`` shipped in
-``towcable_fmu/scenes``) or by a path to the user's own TOML file. Overrides are
+``towcable_fmu/builtin_scenes``) or by a path to the user's own TOML file. Overrides are
 ``dotted.key=value`` strings (values in TOML syntax; bare words are strings), applied
 before validation so that they are validated like the file itself.
 """
@@ -32,7 +32,7 @@ _INDEX = re.compile(r"^(?P<name>[^\[\]]+)\[(?P<index>\d+)\]$")
 
 def builtin_scene_names() -> list[str]:
     """Names of the scenes shipped with the package, sorted."""
-    folder = resources.files(_PACKAGE) / "scenes"
+    folder = resources.files(_PACKAGE) / "builtin_scenes"
     return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
 
 
@@ -49,7 +49,7 @@ def _read_text(name_or_path: str | Path) -> tuple[str, Path | None]:
         hint = f" (did you mean '{close[0]}'?)" if close else ""
         raise SceneError("scene", str(name_or_path), "a built-in scene name (" + ", ".join(names) + ")"
                          + hint + " or a path to a .toml file")
-    res = resources.files(_PACKAGE) / "scenes" / f"{name_or_path}.toml"
+    res = resources.files(_PACKAGE) / "builtin_scenes" / f"{name_or_path}.toml"
     return res.read_text(encoding="utf-8"), None
 
 

@@ -65,7 +65,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                                    "on local processes or, with --scheduler, on a Dask distributed cluster; "
                                    "one row per case, appended as cases finish; failed cases are recorded "
                                    "with their error; the sweep goes on.")
-    p.add_argument("spec", help="sweep TOML file (see towcable_fmu/sweeps/example.toml)")
+    p.add_argument("spec", help="sweep TOML file (see towcable_fmu/example_sweeps/example.toml)")
     p.add_argument("--workers", type=_count, default=None, help="local processes (default: number of CPUs)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="Dask scheduler address, e.g. tcp://127.0.0.1:8786 (needs pip install 'towcable[dask]')")

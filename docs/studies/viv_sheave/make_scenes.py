@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-SCENES = Path(__file__).resolve().parents[3] / "towcable_fmu" / "scenes"
+SCENES = Path(__file__).resolve().parents[3] / "towcable_fmu" / "builtin_scenes"
 
 D, MU, E, AREA, EI, XI = 0.020, 1.38, 75.8e9, 1.64e-4, 0.73, 0.10
 R, G, ST = 0.18, 9.81, 0.2
