@@ -15,7 +15,7 @@ from towcable_fmu import contract
 from towcable_fmu.cli import build_parser
 from towcable_fmu.docs_gen import REGENERATE, render, write_reference
 from towcable_fmu.scene.model import Scene
-from towcable_fmu.scene.schema import describe
+from towcable_fmu.schema import describe
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 EXAMPLES = sorted((DOCS / "examples").glob("*.md"))

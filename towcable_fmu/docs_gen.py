@@ -2,7 +2,7 @@
 
 Three Markdown files: every scene key of every model (from the scene schemas,
 :mod:`towcable_fmu.scene.model` and :mod:`towcable_fmu.rigidlink.scene` via
-:func:`towcable_fmu.scene.schema.describe`; the ``[motion]`` and ``[compensation]``
+:func:`towcable_fmu.schema.describe`; the ``[motion]`` and ``[compensation]``
 tables, which :mod:`ship_motion` and :mod:`controllers` validate, from
 :func:`motion_key_rows` and :func:`compensation_key_rows`, whose key sets, defaults and
 ranges tests/test_docs.py checks against those validators), every FMU variable and
@@ -21,7 +21,7 @@ from typing import Iterable, Sequence
 
 from . import contract
 from .scene.model import Scene
-from .scene.schema import describe
+from .schema import describe
 
 #: The command that regenerates the committed reference (quoted in every file).
 REGENERATE = "towcable docs --output docs/reference"
@@ -63,7 +63,7 @@ def _row(key: str, type_: str, unit: str, default: object, allowed: str, doc: st
     """One documented key. A string ``default`` is written as given (a TOML string literal
     must carry its quotes; other text describes the default), other values as TOML;
     ``probe`` is a value the validator must refuse (for the tests)."""
-    from .scene.schema import toml_text
+    from .schema import toml_text
 
     text = default if isinstance(default, str) else toml_text(default)
     return {"key": key, "type": type_, "unit": unit, "default": text, "allowed": allowed, "doc": doc,
@@ -82,7 +82,7 @@ def motion_key_rows() -> dict[str, list[dict[str, object]]]:
     Returns
     -------
     dict
-        ``type`` value -> rows (keys as in :func:`towcable_fmu.scene.schema.describe`).
+        ``type`` value -> rows (keys as in :func:`towcable_fmu.schema.describe`).
     """
     from ship_motion.config import _PARTICULAR_RANGES, DEFAULT_SEA, TYPES
     from ship_motion.irregular import DEFAULT_BAND

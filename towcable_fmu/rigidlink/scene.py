@@ -3,7 +3,7 @@
 Frame: ``x`` horizontal along the tow (the tug ahead, at larger ``x``; ``x = 0`` at the
 towed vessel's initial fairlead), ``z`` up from the mean waterline (both fairleads start
 at ``layout.height``). Each class is one TOML table; every field declares its unit,
-default and allowed range through :func:`~towcable_fmu.scene.schema.spec`.
+default and allowed range through :func:`~towcable_fmu.schema.spec`.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ import dataclasses
 
 from ..errors import SceneError
 from ..scene.model import Environment
-from ..scene.schema import spec
+from ..schema import spec
 
 
 @dataclasses.dataclass(frozen=True)

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any, Iterable, Mapping
 
 from ..errors import SceneError
 from .model import Scene
-from .schema import parse
+from ..schema import parse
 
 #: The package holding the built-in scenes (``towcable_fmu``, or its copy in an FMU).
 _PACKAGE = __package__.rpartition(".")[0]

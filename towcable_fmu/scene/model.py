@@ -1,7 +1,7 @@
 """The scene: typed, validated description of one towed-cable system.
 
 Each class is one TOML table of a scene file; every field declares its unit, default
-and allowed range (see :mod:`towcable_fmu.scene.schema`). Cross-field rules live in
+and allowed range (see :mod:`towcable_fmu.schema`). Cross-field rules live in
 ``validate`` methods and raise :class:`~towcable_fmu.errors.SceneError` as well.
 """
 
@@ -14,7 +14,7 @@ import numpy as np
 
 from ..errors import SceneError
 from ..numerics.explicit_step import SAFETY, step_limit
-from .schema import spec
+from ..schema import spec
 
 
 @dataclasses.dataclass(frozen=True)

@@ -16,7 +16,7 @@ import types
 import typing
 from typing import Any
 
-from ..errors import SceneError
+from .errors import SceneError
 
 REQUIRED = dataclasses.MISSING
 
