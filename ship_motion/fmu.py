@@ -15,6 +15,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
+from towcable_fmu.builtin_scenes import builtin_scene_names, builtin_scene_text
 from towcable_fmu.errors import SceneError
 from towcable_fmu.fmi.slave import ContractSlave, ship_signal_names
 
@@ -52,8 +53,6 @@ def motion_table(p: dict[str, Any]) -> tuple[dict, Path | None]:
 
 def _config_table(config: str) -> tuple[dict, Path | None]:
     """``motion.config``: a TOML file path, a built-in scene name or TOML text."""
-    from towcable_fmu.scene import builtin_scene_names, load_scene
-
     if "\n" not in config and "=" not in config:
         path = Path(config).expanduser()
         if path.suffix == ".toml" or path.exists():
@@ -68,7 +67,7 @@ def _config_table(config: str) -> tuple[dict, Path | None]:
                 raise SceneError("motion.config", config, "a TOML file with a [motion] table")
             return doc["motion"], path.parent.resolve()
         if config in builtin_scene_names():
-            motion = load_scene(config).motion
+            motion = tomllib.loads(builtin_scene_text(config)).get("motion")
             return (dict(motion) if motion else {"type": "none"}), None
         raise SceneError("motion.config", config, "an existing TOML file, a built-in scene name ("
                          + ", ".join(builtin_scene_names()) + ") or TOML text of a [motion] table")

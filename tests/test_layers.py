@@ -114,3 +114,26 @@ def test_only_the_command_line_imports_the_command_line():
     importers = sorted(m for m, targets in graph.items() for t in targets
                        if t in COMMAND_LINE and m not in COMMAND_LINE)
     assert importers == []
+
+
+#: Below the scene package (issue 38): the ship motion, the controllers, the FMI runtime
+#: base of the slaves, the schema mechanism, the errors and the built-in scene files.
+BELOW_THE_SCENE = ("ship_motion", "controllers", "towcable_fmu.fmi", "towcable_fmu.schema", "towcable_fmu.errors",
+                   "towcable_fmu.builtin_scenes")
+
+
+def test_nothing_below_the_scene_package_reaches_it():
+    """Not even through another module: the ship and controller slaves run without it."""
+    graph = import_graph()
+
+    def reached(module: str) -> set[str]:
+        seen, todo = set(), [module]
+        while todo:
+            for target in graph[todo.pop()] - seen:
+                seen.add(target)
+                todo.append(target)
+        return seen
+
+    upward = sorted((m, t) for m in graph if any(_in(m, low) for low in BELOW_THE_SCENE)
+                    for t in reached(m) if _in(t, "towcable_fmu.scene"))
+    assert upward == []

@@ -39,8 +39,8 @@ from pythonfmu.enums import Fmi2Status
 
 from .errors import SceneError
 from .models import model_kind, simulation_for
-from .fmi.slave import ContractSlave, ShipStateReader, parse_overrides
-from .scene import load_scene
+from .fmi.slave import ContractSlave, ShipStateReader
+from .scene import load_scene, parse_overrides
 
 #: Numeric parameters that override a scene key, with the value that means "keep the scene's".
 OVERRIDE_PARAMETERS = {"solver.time_step": 0.0, "solver.rho_inf": -1.0, "towbody.mass": 0.0}

@@ -107,32 +107,6 @@ def values_getter(names: tuple[str, ...]) -> Callable[[Any], tuple]:
     return lambda mapping: tuple(mapping[name] for name in names)
 
 
-def parse_overrides(text: str) -> list[tuple[str, Any]]:
-    """``KEY=VALUE`` items separated by ``;`` or new lines (values in TOML syntax).
-
-    A ``;`` inside brackets or quotes does not separate items.
-    """
-    from ..scene import parse_override
-
-    items, depth, quote, current = [], 0, "", []
-    for ch in text:
-        if quote:
-            quote = "" if ch == quote else quote
-        elif ch in "\"'":
-            quote = ch
-        elif ch in "[{":
-            depth += 1
-        elif ch in "]}":
-            depth -= 1
-        elif depth == 0 and ch in ";\n":
-            items.append("".join(current))
-            current = []
-            continue
-        current.append(ch)
-    items.append("".join(current))
-    return [parse_override(item.strip()) for item in items if item.strip()]
-
-
 def _in_range(var: contract.Variable, value: Any) -> bool:
     """Whether a parameter value lies in the contract's range (always, without one)."""
     if var.min is None and var.max is None:

@@ -12,7 +12,7 @@ from importlib import import_module
 from typing import Callable
 
 from .. import contract
-from ..scene.loader import builtin_scene_names
+from ..builtin_scenes import builtin_scene_names
 
 #: Communication step of the warm-up [s].
 STEP = 0.01

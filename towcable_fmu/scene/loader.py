@@ -13,27 +13,18 @@ import difflib
 import json
 import re
 import tomllib
-from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Iterable, Mapping
 
+from ..builtin_scenes import builtin_scene_names, builtin_scene_text
 from ..errors import SceneError
 from .model import Scene
 from ..schema import parse
-
-#: The package holding the built-in scenes (``towcable_fmu``, or its copy in an FMU).
-_PACKAGE = __package__.rpartition(".")[0]
 
 if TYPE_CHECKING:
     from ..rigidlink.scene import RigidLinkScene
 
 _INDEX = re.compile(r"^(?P<name>[^\[\]]+)\[(?P<index>\d+)\]$")
-
-
-def builtin_scene_names() -> list[str]:
-    """Names of the scenes shipped with the package, sorted."""
-    folder = resources.files(_PACKAGE) / "builtin_scenes"
-    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
 
 
 def _read_text(name_or_path: str | Path) -> tuple[str, Path | None]:
@@ -49,8 +40,7 @@ def _read_text(name_or_path: str | Path) -> tuple[str, Path | None]:
         hint = f" (did you mean '{close[0]}'?)" if close else ""
         raise SceneError("scene", str(name_or_path), "a built-in scene name (" + ", ".join(names) + ")"
                          + hint + " or a path to a .toml file")
-    res = resources.files(_PACKAGE) / "builtin_scenes" / f"{name_or_path}.toml"
-    return res.read_text(encoding="utf-8"), None
+    return builtin_scene_text(str(name_or_path)), None
 
 
 def parse_override(text: str) -> tuple[str, Any]:
@@ -69,6 +59,30 @@ def parse_override(text: str) -> tuple[str, Any]:
     except tomllib.TOMLDecodeError:
         value = raw
     return key, value
+
+
+def parse_overrides(text: str) -> list[tuple[str, Any]]:
+    """``KEY=VALUE`` items separated by ``;`` or new lines (values in TOML syntax).
+
+    A ``;`` inside brackets or quotes does not separate items.
+    """
+    items, depth, quote, current = [], 0, "", []
+    for ch in text:
+        if quote:
+            quote = "" if ch == quote else quote
+        elif ch in "\"'":
+            quote = ch
+        elif ch in "[{":
+            depth += 1
+        elif ch in "]}":
+            depth -= 1
+        elif depth == 0 and ch in ";\n":
+            items.append("".join(current))
+            current = []
+            continue
+        current.append(ch)
+    items.append("".join(current))
+    return [parse_override(item.strip()) for item in items if item.strip()]
 
 
 def format_overrides(items: Iterable[tuple[str, Any]]) -> str:
