@@ -1,21 +1,23 @@
 """Configuration of the heave-compensation set-point algorithms W(1)-(2).
 
-A :class:`SetpointConfig` is validated when it is built: a bad value raises
-:class:`towcable_fmu.errors.SceneError` naming the key (``compensation.winch_radius``
-and so on), the value and what is allowed. :func:`setpoint_config_from_table` builds
-one from a TOML table (stdlib ``tomllib``) and rejects unknown or missing keys.
+:class:`SetpointConfig` is declared with the project's schema mechanism
+(:mod:`towcable_fmu.schema`): the declaration gives the validation, the typed object and
+the scene reference's ``[compensation]`` table (``docs/reference/scene_keys.md``). It is
+validated when it is built: a bad value raises :class:`towcable_fmu.errors.SceneError`
+naming the key (``compensation.winch_radius`` and so on), the value and what is allowed.
+:func:`setpoint_config_from_table` builds one from a TOML table (stdlib ``tomllib``) and
+rejects unknown or missing keys.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
-from dataclasses import MISSING, InitVar, dataclass, fields
-from numbers import Real
-
-import numpy as np
+from collections.abc import Mapping
+from dataclasses import InitVar, dataclass
+from typing import ClassVar
 
 from towcable_fmu.errors import SceneError
+from towcable_fmu.schema import check_fields, parse_fields, spec
 
 #: The set-point algorithms from the ship motion (:class:`controllers.SetpointAlgorithm`).
 MOTION_ALGORITHMS: tuple[str, ...] = (
@@ -29,91 +31,16 @@ MOTION_ALGORITHMS: tuple[str, ...] = (
 #: algorithms and the constant-tension winch (:class:`controllers.TensionControl`).
 ALGORITHMS: tuple[str, ...] = MOTION_ALGORITHMS + ("constant_tension",)
 
-#: What each configuration key allows (used in error messages).
-ALLOWED: dict[str, str] = {
-    "algorithm": "one of " + ", ".join(ALGORITHMS),
-    "reference_point": "3 finite numbers [m]: body-frame X, Y, Z of the reference "
-                       "point (normally the sheave centre)",
-    "winch_radius": "a finite number > 0 [m]",
-    "phi_nom": "a finite number [rad]",
-    "theta_nom": "a number in [0, pi/2) [rad] (cable departure angle from vertical, "
-                 "positive trailing aft)",
-    "waterline_z": "a finite number [m] below the nominal reference-point height for "
-                   "the waterline algorithms",
-    "max_payout": "absent (no limit) or a finite number > 0 [m]",
-    "max_winch_speed": "absent (no limit) or a finite number > 0 [rad/s]",
-    "max_winch_acceleration": "absent (no limit) or a finite number > 0 [rad/s^2]",
-    "tension_target": "a finite number > 0 [N] (required by constant_tension)",
-    "tension_gain": "a finite number > 0 [m/(s N)]: payout rate per newton of tension above the target "
-                    "(required by constant_tension)",
-}
-
-
-def _is_number(value: object) -> bool:
-    """True for a finite real number that is not a Boolean."""
-    return (isinstance(value, Real) and not isinstance(value, bool)
-            and math.isfinite(value))
-
-
-def _number(key: str, value: object, allowed: str) -> float:
-    """Return ``value`` as a float, or raise SceneError if it is not a finite number."""
-    if not _is_number(value):
-        raise SceneError(key, value, allowed)
-    return float(value)
-
-
-def _point(key: str, value: object, allowed: str) -> tuple[float, float, float]:
-    """Return ``value`` as a 3-tuple of floats, or raise SceneError."""
-    items = value.tolist() if isinstance(value, np.ndarray) else value
-    if (not isinstance(items, Sequence) or isinstance(items, str) or len(items) != 3
-            or not all(_is_number(v) for v in items)):
-        raise SceneError(key, value, allowed)
-    return (float(items[0]), float(items[1]), float(items[2]))
-
 
 @dataclass(frozen=True)
 class SetpointConfig:
-    """Parameters of one set-point algorithm.
+    """Parameters of one set-point algorithm (a scene's ``[compensation]`` table).
 
-    Parameters
-    ----------
-    algorithm
-        One of :data:`ALGORITHMS`.
-    reference_point
-        Body-frame position ``s_ref`` [m] of the point whose displacement is
-        compensated, normally the sheave centre. Its nominal inertial position is
-        ``s_ref`` itself (ship at the origin with zero angles).
-    winch_radius
-        Winch drum radius ``r_w`` [m] (W(120)).
-    phi_nom
-        Nominal winch angle ``phi_nom`` [rad]; the set-point is
-        ``phi_sp = phi_nom - payout / r_w``.
-    theta_nom
-        Nominal (steady-state) cable departure angle from the inertial vertical [rad],
-        in [0, pi/2), positive when the cable trails aft.
-    waterline_z
-        Inertial height of the waterline [m] (0 when the origin is at the mean
-        waterline). The waterline algorithms need the nominal reference point above it.
-    max_payout
-        Largest payout magnitude [m], or None for no limit. The payout is clipped to
-        ``[-max_payout, max_payout]``; while it is clipped its rate is zero.
-    max_winch_speed
-        Largest winch set-point speed magnitude [rad/s], or None for no limit. For the
-        motion algorithms only the rate ``phi_sp_rate`` is clipped (they are stateless:
-        ``phi_sp`` still follows the payout); ``constant_tension`` integrates the clipped
-        rate.
-    max_winch_acceleration
-        Largest change of the set-point speed [rad/s^2] (``constant_tension`` only), or
-        None for no limit.
-    tension_target
-        Tension the ``constant_tension`` winch holds [N].
-    tension_gain
-        Payout rate per newton of measured tension above the target [m/(s N)]
-        (``constant_tension``): with a cable of axial stiffness k [N/m] between the winch
-        and a fixed point, the tension loop's bandwidth is ``k * tension_gain`` [rad/s].
-    key
-        Prefix of the keys named in error messages (default ``"compensation"``; empty:
-        the field names alone); not stored.
+    The fields' meanings, units and ranges are their declarations below. The defaults
+    in words are what a scene supplies (:mod:`towcable_fmu.compensation_setup`); built
+    directly, the first five fields are required. ``key`` is the prefix of the keys
+    named in error messages (default ``"compensation"``; empty: the field names
+    alone); it is not stored.
 
     Raises
     ------
@@ -121,56 +48,67 @@ class SetpointConfig:
         If a value is out of range; the error names ``<key>.<field>``.
     """
 
-    algorithm: str
-    reference_point: tuple[float, float, float]
-    winch_radius: float
-    phi_nom: float
-    theta_nom: float
-    waterline_z: float = 0.0
-    max_payout: float | None = None
-    max_winch_speed: float | None = None
-    max_winch_acceleration: float | None = None
-    tension_target: float | None = None
-    tension_gain: float | None = None
+    algorithm: str = spec(choices=ALGORITHMS,
+                          doc="set-point algorithm: W(2) sheave or W(1) waterline reference, simplified (nominal "
+                              "departure angle) or rigorous (measured sheave angle); constant_tension: a "
+                              "constant-tension winch (payout from the measured tension); 'none' holds the winch")
+    reference_point: tuple[float, float, float] = spec(
+        unit="m", length=3, default_text="the sheave centre (without a sheave: the top of the winch drum)",
+        doc="body-frame position s_ref of the point whose displacement is compensated, normally the sheave "
+            "centre; its nominal inertial position is s_ref itself (ship at the origin with zero angles)")
+    winch_radius: float = spec(unit="m", gt=0.0, default_text="the winch's (to the cable centreline)",
+                               doc="winch drum radius r_w (W(120))")
+    phi_nom: float = spec(unit="rad", default_text="winch.phi_nom",
+                          doc="nominal winch angle phi_nom; the set-point is phi_sp = phi_nom - payout / r_w")
+    theta_nom: float = spec(unit="rad", ge=0.0, lt=0.5 * math.pi,
+                            default_text="the model's own static departure angle",
+                            doc="nominal (steady-state) cable departure angle from the inertial vertical, "
+                                "positive when the cable trails aft")
+    waterline_z: float = spec(0.0, unit="m", default_text="water.surface_z (0 without water)",
+                              doc="inertial height of the waterline (0 when the origin is at the mean waterline)")
+    max_payout: float | None = spec(None, unit="m", gt=0.0,
+                                    doc="largest payout magnitude (absent: no limit); the payout is clipped to "
+                                        "[-max_payout, max_payout] and its rate is zero while clipped")
+    max_winch_speed: float | None = spec(
+        None, unit="rad/s", gt=0.0,
+        doc="largest winch set-point speed magnitude (absent: no limit); the motion algorithms clip only the "
+            "rate phi_sp_rate (phi_sp still follows the payout), constant_tension integrates the clipped rate")
+    max_winch_acceleration: float | None = spec(None, unit="rad/s^2", gt=0.0,
+                                                doc="largest change of the set-point speed (constant_tension only; "
+                                                    "absent: no limit)")
+    tension_target: float | None = spec(None, unit="N", gt=0.0, doc="tension the constant_tension winch holds")
+    tension_gain: float | None = spec(
+        None, unit="m/(s N)", gt=0.0,
+        doc="payout rate per newton of measured tension above the target (constant_tension): with a cable of "
+            "axial stiffness k [N/m] between the winch and a fixed point, the tension loop's bandwidth is "
+            "k tension_gain [rad/s]")
     key: InitVar[str] = "compensation"
 
+    #: Rules across keys (checked by :meth:`validate`).
+    RULES: ClassVar[dict[str, str]] = {
+        "waterline_z": "below the nominal height of the reference point for the waterline algorithms",
+        "tension_target": "required by constant_tension",
+        "tension_gain": "required by constant_tension",
+    }
+
     def __post_init__(self, key: str) -> None:
+        check_fields(self, key)
+        self.validate(key)
+
+    def validate(self, key: str) -> None:
+        """Check the rules across keys (:attr:`RULES`); raise SceneError naming the key."""
         def name(field: str) -> str:
             return f"{key}.{field}" if key else field
 
-        if not isinstance(self.algorithm, str) or self.algorithm not in ALGORITHMS:
-            raise SceneError(name("algorithm"), self.algorithm, ALLOWED["algorithm"])
-        values: dict[str, object] = {
-            "reference_point": _point(name("reference_point"), self.reference_point,
-                                      ALLOWED["reference_point"]),
-        }
-        for field in ("winch_radius", "phi_nom", "theta_nom", "waterline_z"):
-            values[field] = _number(name(field), getattr(self, field), ALLOWED[field])
-        optional = ("max_payout", "max_winch_speed", "max_winch_acceleration", "tension_target", "tension_gain")
-        for field in optional:
-            value = getattr(self, field)
-            values[field] = (None if value is None
-                             else _number(name(field), value, ALLOWED[field]))
-
-        if values["winch_radius"] <= 0.0:
-            raise SceneError(name("winch_radius"), self.winch_radius,
-                             ALLOWED["winch_radius"])
-        if not 0.0 <= values["theta_nom"] < 0.5 * math.pi:
-            raise SceneError(name("theta_nom"), self.theta_nom, ALLOWED["theta_nom"])
-        for field in optional:
-            if values[field] is not None and values[field] <= 0.0:
-                raise SceneError(name(field), getattr(self, field), ALLOWED[field])
         if self.algorithm == "constant_tension":
             for field in ("tension_target", "tension_gain"):
-                if values[field] is None:
-                    raise SceneError(name(field), None, "required: " + ALLOWED[field])
-        if (self.algorithm.endswith("_waterline")
-                and values["reference_point"][2] <= values["waterline_z"]):
+                if getattr(self, field) is None:
+                    allowed = type(self).__dataclass_fields__[field].metadata["spec"].allowed()
+                    raise SceneError(name(field), None, f"required: {allowed} (required by constant_tension)")
+        if self.algorithm.endswith("_waterline") and self.reference_point[2] <= self.waterline_z:
             raise SceneError(name("waterline_z"), self.waterline_z,
-                             f"< {values['reference_point'][2]} m (the nominal height "
+                             f"< {self.reference_point[2]} m (the nominal height "
                              "of the reference point) for the waterline algorithms")
-        for field, value in values.items():
-            object.__setattr__(self, field, value)
 
     @property
     def rigorous(self) -> bool:
@@ -189,9 +127,7 @@ def setpoint_config_from_table(table: Mapping[str, object],
 
     The table's keys are the field names of :class:`SetpointConfig`, in SI units
     (for example ``winch_radius = 0.3``, ``theta_nom = 0.6``,
-    ``reference_point = [-36.8, 0.0, 3.7]``). ``waterline_z``, ``max_payout``,
-    ``max_winch_speed``, ``max_winch_acceleration``, ``tension_target`` and
-    ``tension_gain`` are optional (the last two required by ``constant_tension``).
+    ``reference_point = [-36.8, 0.0, 3.7]``).
 
     Parameters
     ----------
@@ -210,14 +146,5 @@ def setpoint_config_from_table(table: Mapping[str, object],
         On an unknown key, a missing required key, or an invalid value.
     """
     if not isinstance(table, Mapping):
-        raise SceneError(key, table, "a table of " + ", ".join(ALLOWED))
-    known = fields(SetpointConfig)
-    names = [f.name for f in known]
-    for entry, value in table.items():
-        if entry not in names:
-            raise SceneError(f"{key}.{entry}", value,
-                             "one of the keys " + ", ".join(names))
-    for f in known:
-        if f.default is MISSING and f.name not in table:
-            raise SceneError(f"{key}.{f.name}", None, "required: " + ALLOWED[f.name])
-    return SetpointConfig(**table, key=key)
+        raise SceneError(key, table, "a table of the keys of a [compensation] table")
+    return SetpointConfig(**parse_fields(SetpointConfig, table, key), key=key)

@@ -1,22 +1,26 @@
 """Building a motion source from a scene file's ``[motion]`` table.
 
-:func:`motion_from_config` reads the table (already parsed from TOML), checks every
-key and range, and returns the source. Errors are
-:class:`towcable_fmu.errors.SceneError` naming the full dotted key
-(``motion.heave.period``), the value and the allowed range with units. The keys, units,
-defaults and ranges of every ``type`` are listed in ``ship_motion/README.md``.
-Angles are given in degrees in the configuration and are radians inside.
+The table of each ``type`` is declared once below, with the project's schema mechanism
+(:mod:`towcable_fmu.schema`): the declaration gives the validation, the typed object and
+the scene reference's ``[motion]`` section (``docs/reference/scene_keys.md``).
+:func:`motion_from_config` validates a table (already parsed from TOML) against its
+declaration and returns the source. Errors are :class:`towcable_fmu.errors.SceneError`
+naming the full dotted key (``motion.heave.period``), the value and the allowed range
+with units. Angles are given in degrees in the configuration and are radians inside.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
+from typing import ClassVar
 
 from towcable_fmu.errors import SceneError
+from towcable_fmu.schema import parse_variant, spec
 
-from . import validation as v
 from .base import CONFIG_DOF_NAMES, IS_ANGLE, MotionSource, StillShip
 from .irregular import DEFAULT_BAND, IrregularSea
 from .manoeuvre import Manoeuvre, Turn
@@ -25,9 +29,6 @@ from .regular import Harmonic, RegularMotion
 from .spectrum import SPACINGS, Jonswap
 from .superposition import SuperposedMotion
 from .time_series import TimeSeriesMotion, read_motion_csv
-
-#: Values of ``type``.
-TYPES: tuple[str, ...] = ("none", "regular", "time_series", "irregular", "manoeuvre")
 
 #: The built-in sea: the FFG-7-sized frigate (:data:`ship_motion.rao.FRIGATE`) at
 #: 2.2 m/s in NATO sea state 5 (North Atlantic: Hs 3.25 m, modal period 9.7 s), waves
@@ -55,19 +56,248 @@ DEFAULT_SEA: dict[str, object] = {
     },
 }
 
-_REGULAR_DOF_KEYS = ("mean", "amplitude", "period", "phase")
-_IRREGULAR_KEYS = ("type", "hs", "tp", "gamma", "heading", "speed", "components", "omega_min",
-                   "omega_max", "spacing", "seed", "ramp", "rao")
-_PARTICULAR_RANGES = {  # name: (lo, lo_open, hi, unit)
-    "length": (0.0, True, 500.0, "m"),
-    "beam": (0.0, True, 100.0, "m"),
-    "draught": (0.0, True, 30.0, "m"),
-    "block_coefficient": (0.3, False, 1.0, "-"),
-    "roll_period": (1.0, False, 60.0, "s"),
-    "roll_damping": (0.0, True, 1.0, "-"),
-}
-_MANOEUVRE_KEYS = ("type", "speed", "initial_speed", "speed_ramp", "heading", "position",
-                   "turn_start", "turn_rate", "turn_angle", "turn_ramp", "waves")
+#: :func:`~towcable_fmu.schema.spec` of a motion key: ranges written as intervals
+#: (``a finite number in [0, 20] m``).
+motion_spec = partial(spec, notation="interval")
+
+
+# ------------------------------------------------------------------ declarations
+@dataclass(frozen=True)
+class StillShipTable:
+    """the ship is still (no other keys)."""
+
+    KIND: ClassVar[str] = "none"
+
+
+@dataclass(frozen=True)
+class Oscillation:
+    """One degree of freedom of a regular motion, in metres:
+    q(t) = mean + ramp(t) amplitude sin(2 pi t / period + phase)."""
+
+    mean: float = motion_spec(0.0, unit="m", doc="mean value")
+    amplitude: float = motion_spec(0.0, ge=0.0, unit="m", doc="amplitude")
+    period: float | None = motion_spec(None, gt=0.0, unit="s", doc="period")
+    phase: float = motion_spec(0.0, unit="deg", doc="phase")
+
+    RULES: ClassVar[dict[str, str]] = {"period": "required when amplitude > 0"}
+
+    def validate(self, path: str) -> None:
+        """The period is required when the amplitude is not zero."""
+        if self.amplitude > 0.0 and self.period is None:
+            raise SceneError(f"{path}.period", None, "required: a finite number > 0 s")
+
+
+@dataclass(frozen=True)
+class Rotation(Oscillation):
+    """One rotational degree of freedom of a regular motion, in degrees (as
+    :class:`Oscillation`)."""
+
+    mean: float = motion_spec(0.0, unit="deg", doc="mean angle")
+    amplitude: float = motion_spec(0.0, ge=0.0, unit="deg", doc="amplitude")
+
+
+@dataclass(frozen=True)
+class Tilt(Rotation):
+    """Roll or pitch of a regular motion, in degrees: the ship never reaches 90 deg."""
+
+    RULES: ClassVar[dict[str, str]] = {**Oscillation.RULES, "amplitude": "|mean| + amplitude < 90 deg"}
+
+    def validate(self, path: str) -> None:
+        """|mean| + amplitude < 90 deg (and the period rule)."""
+        if abs(self.mean) + self.amplitude >= 90.0:
+            raise SceneError(f"{path}.amplitude", self.amplitude,
+                             f"a finite number >= 0 deg with |mean| + amplitude < 90 deg (mean is {self.mean:g} deg)")
+        super().validate(path)
+
+
+@dataclass(frozen=True)
+class Yaw(Rotation):
+    """Yaw of a regular motion, in degrees: at most half a turn each way."""
+
+    RULES: ClassVar[dict[str, str]] = {**Oscillation.RULES, "amplitude": "<= 180 deg"}
+
+    def validate(self, path: str) -> None:
+        """amplitude <= 180 deg (and the period rule)."""
+        if self.amplitude > 180.0:
+            raise SceneError(f"{path}.amplitude", self.amplitude, "a finite number in [0, 180] deg")
+        super().validate(path)
+
+
+def _dof(name: str, axis: str) -> object:
+    return motion_spec(None, doc=f"{name} ({axis}): q(t) = mean + ramp(t) amplitude sin(2 pi t / period + phase); "
+                         "absent: 0", default_text="absent")
+
+
+@dataclass(frozen=True)
+class RegularTable:
+    """regular oscillations, each degree of freedom its own sine (RegularMotion)."""
+
+    KIND: ClassVar[str] = "regular"
+
+    ramp: float = motion_spec(0.0, ge=0.0, unit="s", doc="the oscillations grow from zero over this time (the means do not)")
+    surge: Oscillation | None = _dof("surge", "x")
+    sway: Oscillation | None = _dof("sway", "y")
+    heave: Oscillation | None = _dof("heave", "z")
+    roll: Tilt | None = _dof("roll", "about x")
+    pitch: Tilt | None = _dof("pitch", "about y")
+    yaw: Yaw | None = _dof("yaw", "about z")
+
+
+@dataclass(frozen=True)
+class TimeSeriesTable:
+    """a recorded motion, interpolated by a quintic spline, no extrapolation (TimeSeriesMotion)."""
+
+    KIND: ClassVar[str] = "time_series"
+
+    file: str = motion_spec(doc="recorded motion: columns t, x, y, z, roll, pitch, yaw (position format) or t, vx, vy, vz, "
+                        "roll, pitch, yaw (velocity format); a CSV file relative to the scene file's folder")
+    format: str | None = motion_spec(None, choices=("position", "velocity"), doc="column layout (absent: from the header)")
+    angle_unit: str = motion_spec("deg", choices=("deg", "rad"), doc="unit of the angle columns")
+    initial_position: tuple[float, float, float] | None = motion_spec(
+        None, length=3, unit="m", default_text="[0.0, 0.0, 0.0]",
+        doc="CG position at the first sample (velocity format only: the velocities are integrated from it)")
+    time_offset: float = motion_spec(0.0, unit="s", doc="record time at simulation time 0")
+
+    RULES: ClassVar[dict[str, str]] = {"initial_position": "only with the velocity format"}
+
+
+@dataclass(frozen=True)
+class RaoConfig:
+    """Response amplitude operators: the hull particulars (closed form) or a file."""
+
+    length: float | None = motion_spec(None, gt=0.0, le=500.0, unit="m", default_text=f"{FRIGATE.length:g}",
+                               doc="length between perpendiculars")
+    beam: float | None = motion_spec(None, gt=0.0, le=100.0, unit="m", default_text=f"{FRIGATE.beam:g}", doc="beam")
+    draught: float | None = motion_spec(None, gt=0.0, le=30.0, unit="m", default_text=f"{FRIGATE.draught:g}",
+                                doc="draught")
+    block_coefficient: float | None = motion_spec(None, ge=0.3, le=1.0, unit="-",
+                                          default_text=f"{FRIGATE.block_coefficient:g}", doc="block coefficient")
+    roll_period: float | None = motion_spec(None, ge=1.0, le=60.0, unit="s", default_text=f"{FRIGATE.roll_period:g}",
+                                    doc="natural roll period")
+    roll_damping: float | None = motion_spec(None, gt=0.0, le=1.0, unit="-", default_text=f"{FRIGATE.roll_damping:g}",
+                                     doc="roll damping (fraction of critical)")
+    file: str | None = motion_spec(None, doc="RAO table: columns omega, heading, <dof>_amp, <dof>_phase; must cover the "
+                                     "wave band and the heading")
+    angle_unit: str | None = motion_spec(None, choices=("deg", "rad"), default_text='"deg"',
+                                 doc="unit of the rotational amplitudes and of all phases in the RAO file")
+
+    PARTICULARS: ClassVar[tuple[str, ...]] = ("length", "beam", "draught", "block_coefficient", "roll_period",
+                                              "roll_damping")
+    RULES: ClassVar[dict[str, str]] = {"file": "then no hull particulars", "angle_unit": "only with file"}
+
+    def validate(self, path: str) -> None:
+        """Either the particulars (defaults: the frigate) or a file with its angle unit."""
+        if self.file is not None:
+            for name in self.PARTICULARS:
+                if getattr(self, name) is not None:
+                    raise SceneError(f"{path}.{name}", getattr(self, name), "one of the keys angle_unit, file "
+                                     "(an RAO file replaces the hull particulars)")
+        elif self.angle_unit is not None:
+            raise SceneError(f"{path}.angle_unit", self.angle_unit, "one of the keys " + ", ".join(self.PARTICULARS)
+                             + " (angle_unit only with file)")
+
+    def particulars(self) -> ShipParticulars:
+        """The hull particulars given, the frigate's for the others."""
+        return ShipParticulars(**{name: getattr(FRIGATE, name) if getattr(self, name) is None
+                                  else getattr(self, name) for name in self.PARTICULARS})
+
+
+@dataclass(frozen=True)
+class IrregularTable:
+    """an irregular sea: JONSWAP spectrum through the ship's RAOs (IrregularSea)."""
+
+    KIND: ClassVar[str] = "irregular"
+
+    hs: float = motion_spec(DEFAULT_SEA["hs"], ge=0.0, le=20.0, unit="m", doc="significant wave height (JONSWAP)")
+    tp: float = motion_spec(DEFAULT_SEA["tp"], ge=2.0, le=30.0, unit="s", doc="peak period")
+    gamma: float = motion_spec(DEFAULT_SEA["gamma"], ge=1.0, le=10.0, unit="-", doc="peak enhancement factor (1: Pierson-Moskowitz)")
+    heading: float = motion_spec(DEFAULT_SEA["heading"], unit="deg",
+                         doc="direction the waves travel, from the ship's X axis counter-clockwise (180: head seas)")
+    speed: float | None = motion_spec(None, ge=0.0, le=25.0, unit="m/s",
+                              default_text=f"{DEFAULT_SEA['speed']:g} (in motion.waves of a manoeuvre: its speed)",
+                              doc="ship speed for the encounter frequency")
+    components: int = motion_spec(DEFAULT_SEA["components"], ge=1, le=5000, unit="-", doc="wave components")
+    omega_min: float | None = motion_spec(None, gt=0.0, le=20.0, unit="rad/s",
+                                  default_text=f"{DEFAULT_BAND[0]:g} x 2 pi / tp", doc="lower end of the wave band")
+    omega_max: float | None = motion_spec(None, gt=0.0, le=20.0, unit="rad/s",
+                                  default_text=f"{DEFAULT_BAND[1]:g} x 2 pi / tp", doc="upper end of the wave band")
+    spacing: str = motion_spec(DEFAULT_SEA["spacing"], choices=SPACINGS,
+                       doc="component frequencies: random within each bin, or the bin centres")
+    seed: int = motion_spec(DEFAULT_SEA["seed"], ge=0, unit="-", doc="seed of the random phases (and frequencies)")
+    ramp: float = motion_spec(DEFAULT_SEA["ramp"], ge=0.0, unit="s", doc="the sea grows from calm over this time")
+    rao: RaoConfig = motion_spec(RaoConfig(), default_text="the closed-form frigate below",
+                         doc="response amplitude operators: the hull particulars below (closed form), or a file")
+
+    RULES: ClassVar[dict[str, str]] = {"omega_max": "> omega_min"}
+
+    @property
+    def band(self) -> tuple[float, float]:
+        """The wave band [rad/s]: the keys given, else the default band about the peak."""
+        peak = 2.0 * math.pi / self.tp
+        return (DEFAULT_BAND[0] * peak if self.omega_min is None else self.omega_min,
+                DEFAULT_BAND[1] * peak if self.omega_max is None else self.omega_max)
+
+    def validate(self, path: str) -> None:
+        """A given omega_max lies above the band's lower end."""
+        lo = self.band[0]
+        if self.omega_max is not None and self.omega_max <= lo:
+            raise SceneError(f"{path}.omega_max", self.omega_max, f"a finite number in ({lo:g}, 20] rad/s")
+
+
+@dataclass(frozen=True)
+class ManoeuvreTable:
+    """a ship under way: speed ramp and turn (Manoeuvre), with waves if given (SuperposedMotion)."""
+
+    KIND: ClassVar[str] = "manoeuvre"
+
+    speed: float = motion_spec(ge=0.0, le=30.0, unit="m/s", doc="cruise speed")
+    speed_ramp: float = motion_spec(0.0, ge=0.0, unit="s", doc="time to ramp from initial_speed to speed, from t = 0")
+    initial_speed: float | None = motion_spec(None, ge=0.0, le=30.0, unit="m/s",
+                                      default_text="0 with a speed ramp, else speed", doc="speed at t = 0")
+    heading: float = motion_spec(0.0, unit="deg", doc="initial heading (yaw)")
+    position: tuple[float, float] = motion_spec([0.0, 0.0], length=2, unit="m", doc="initial CG (x, y)")
+    turn_angle: float = motion_spec(0.0, ge=0.0, le=36000.0, unit="deg", doc="total heading change of the turn (0: no turn)")
+    turn_rate: float | None = motion_spec(None, ge=-20.0, le=20.0, unit="deg/s",
+                                  doc="yaw rate of the turn (> 0 turns to port)")
+    turn_start: float = motion_spec(0.0, ge=0.0, unit="s", doc="time the yaw rate starts to ramp up")
+    turn_ramp: float = motion_spec(10.0, gt=0.0, unit="s", doc="time for the yaw rate to ramp up (and down)")
+    waves: RegularTable | IrregularTable | None = motion_spec(
+        None, doc="waves superposed on the manoeuvre: the keys of that type, under motion.waves")
+
+    RULES: ClassVar[dict[str, str]] = {
+        "initial_speed": "differing from speed needs speed_ramp > 0",
+        "turn_angle": ">= |turn_rate| x turn_ramp",
+        "turn_rate": "non-zero; required when turn_angle > 0",
+    }
+
+    @property
+    def start_speed(self) -> float:
+        """The speed at t = 0 [m/s]: initial_speed, else 0 with a speed ramp, else speed."""
+        if self.initial_speed is not None:
+            return self.initial_speed
+        return 0.0 if self.speed_ramp > 0.0 else self.speed
+
+    def validate(self, path: str) -> None:
+        """The rules across keys (:attr:`RULES`)."""
+        if self.speed_ramp == 0.0 and self.start_speed != self.speed:
+            raise SceneError(f"{path}.speed_ramp", self.speed_ramp,
+                             "a finite number > 0 s when initial_speed differs from speed")
+        if self.turn_rate is None and self.turn_angle != 0.0:
+            raise SceneError(f"{path}.turn_rate", None, "required: a finite number in [-20, 20] deg/s "
+                             "(non-zero; positive turns to port)")
+        if self.turn_rate == 0.0:
+            raise SceneError(f"{path}.turn_rate", self.turn_rate, "a finite non-zero number in [-20, 20] deg/s")
+        if self.turn_angle > 0.0 and self.turn_angle < abs(self.turn_rate) * self.turn_ramp:
+            raise SceneError(f"{path}.turn_angle", self.turn_angle,
+                             f">= |turn_rate| * turn_ramp = {abs(self.turn_rate) * self.turn_ramp:g} deg "
+                             "(the angle turned while the rate ramps up and down)")
+
+
+#: The declaration of each ``type`` of a ``[motion]`` table.
+MOTION_TABLES: dict[str, type] = {cls.KIND: cls for cls in (StillShipTable, RegularTable, TimeSeriesTable,
+                                                             IrregularTable, ManoeuvreTable)}
+#: Values of ``type``.
+TYPES: tuple[str, ...] = tuple(MOTION_TABLES)
 
 
 def motion_from_config(table: Mapping[str, object], *, key: str = "motion",
@@ -94,18 +324,16 @@ def motion_from_config(table: Mapping[str, object], *, key: str = "motion",
     SceneError
         On an unknown key, a missing required key, or a value out of range.
     """
-    table = v.check_table(table, key, "a table with type = " + " | ".join(TYPES))
-    kind = v.choice(table, "type", key, TYPES)
-    if kind == "none":
-        v.check_keys(table, ("type",), key)
-        return StillShip()
-    if kind == "regular":
-        return _regular(table, key)
-    if kind == "time_series":
-        return _time_series(table, key, base_dir)
-    if kind == "irregular":
-        return _irregular(table, key, base_dir)
-    return _manoeuvre(table, key, base_dir)
+    config = parse_variant(MOTION_TABLES, table, key)
+    if isinstance(config, RegularTable):
+        return _regular(config)
+    if isinstance(config, TimeSeriesTable):
+        return _time_series(config, key, base_dir)
+    if isinstance(config, IrregularTable):
+        return _irregular(config, key, base_dir)
+    if isinstance(config, ManoeuvreTable):
+        return _manoeuvre(config, key, base_dir)
+    return StillShip()
 
 
 def _resolve(path_text: str, base_dir: Path | None) -> Path:
@@ -113,139 +341,68 @@ def _resolve(path_text: str, base_dir: Path | None) -> Path:
     return path if path.is_absolute() or base_dir is None else Path(base_dir) / path
 
 
-def _regular(table: Mapping[str, object], key: str) -> RegularMotion:
-    v.check_keys(table, ("type", "ramp", *CONFIG_DOF_NAMES), key)
-    ramp = v.number(table, "ramp", key, default=0.0, lo=0.0, unit="s")
+def _regular(config: RegularTable) -> RegularMotion:
     harmonics = []
     mean = [0.0] * 6
     for dof, name in enumerate(CONFIG_DOF_NAMES):
-        if name not in table:
+        oscillation = getattr(config, name)
+        if oscillation is None:
             continue
-        path = v.join(key, name)
-        sub = v.check_table(table[name], path, "a table with keys " + ", ".join(_REGULAR_DOF_KEYS))
-        v.check_keys(sub, _REGULAR_DOF_KEYS, path)
-        unit = "deg" if IS_ANGLE[dof] else "m"
-        m = v.number(sub, "mean", path, default=0.0, unit=unit)
-        amplitude = v.number(sub, "amplitude", path, default=0.0, lo=0.0, unit=unit)
-        if name in ("roll", "pitch") and abs(m) + amplitude >= 90.0:
-            raise SceneError(v.join(path, "amplitude"), sub.get("amplitude"),
-                             f"a finite number >= 0 deg with |mean| + amplitude < 90 deg "
-                             f"(mean is {m:g} deg)")
-        if name == "yaw" and amplitude > 180.0:
-            raise SceneError(v.join(path, "amplitude"), sub["amplitude"],
-                             "a finite number in [0, 180] deg")
-        period = v.number(sub, "period", path, default=None if amplitude == 0.0 else v.REQUIRED,
-                          lo=0.0, lo_open=True, unit="s")
-        phase = v.number(sub, "phase", path, default=0.0, unit="deg")
         scale = math.pi / 180.0 if IS_ANGLE[dof] else 1.0
-        mean[dof] = m * scale
-        if amplitude > 0.0:
-            harmonics.append(Harmonic(dof, amplitude * scale, period, math.radians(phase)))
-    return RegularMotion(harmonics, mean=mean, ramp=ramp)
+        mean[dof] = oscillation.mean * scale
+        if oscillation.amplitude > 0.0:
+            harmonics.append(Harmonic(dof, oscillation.amplitude * scale, oscillation.period,
+                                      math.radians(oscillation.phase)))
+    return RegularMotion(harmonics, mean=mean, ramp=config.ramp)
 
 
-def _time_series(table: Mapping[str, object], key: str, base_dir: Path | None) -> TimeSeriesMotion:
-    v.check_keys(table, ("type", "file", "format", "angle_unit", "initial_position",
-                         "time_offset"), key)
-    file = _resolve(v.string(table, "file", key, "a path to a CSV file (relative to the scene "
-                             "file's folder)"), base_dir)
-    layout = v.choice(table, "format", key, ("position", "velocity"), default=None)
-    angle_unit = v.choice(table, "angle_unit", key, ("deg", "rad"), default="deg")
-    initial = v.vector(table, "initial_position", key, 3, default=(0.0, 0.0, 0.0), unit="m")
-    offset = v.number(table, "time_offset", key, default=0.0, unit="s")
-    record = read_motion_csv(file, layout=layout, angle_unit=angle_unit, initial_position=initial,
-                             key=v.join(key, "file"))
-    if record.layout == "position" and "initial_position" in table:
-        raise SceneError(v.join(key, "initial_position"), table["initial_position"],
+def _time_series(config: TimeSeriesTable, key: str, base_dir: Path | None) -> TimeSeriesMotion:
+    record = read_motion_csv(_resolve(config.file, base_dir), layout=config.format, angle_unit=config.angle_unit,
+                             initial_position=config.initial_position or (0.0, 0.0, 0.0), key=f"{key}.file")
+    if record.layout == "position" and config.initial_position is not None:
+        raise SceneError(f"{key}.initial_position", list(config.initial_position),
                          "only with the velocity format (t, vx, vy, vz, roll, pitch, yaw)")
-    return TimeSeriesMotion(record.t, record.positions, record.attitudes, time_offset=offset,
+    return TimeSeriesMotion(record.t, record.positions, record.attitudes, time_offset=config.time_offset,
                             label=record.label)
 
 
-def _rao(table: Mapping[str, object], key: str, base_dir: Path | None) -> Rao:
-    sub = v.check_table(table, key, "a table with either file (and angle_unit) or the hull "
-                        "particulars " + ", ".join(_PARTICULAR_RANGES))
-    if "file" in sub:
-        v.check_keys(sub, ("file", "angle_unit"), key)
-        file = _resolve(v.string(sub, "file", key, "a path to an RAO CSV file"), base_dir)
-        angle_unit = v.choice(sub, "angle_unit", key, ("deg", "rad"), default="deg")
-        return RaoTable.from_csv(file, angle_unit=angle_unit, key=v.join(key, "file"))
-    v.check_keys(sub, tuple(_PARTICULAR_RANGES), key)
-    values = {}
-    for name, (lo, lo_open, hi, unit) in _PARTICULAR_RANGES.items():
-        values[name] = v.number(sub, name, key, default=getattr(FRIGATE, name), lo=lo,
-                                lo_open=lo_open, hi=hi, unit=unit)
-    return ClosedFormRao(ShipParticulars(**values))
+def _rao(config: RaoConfig, key: str, base_dir: Path | None) -> Rao:
+    if config.file is not None:
+        return RaoTable.from_csv(_resolve(config.file, base_dir), angle_unit=config.angle_unit or "deg",
+                                 key=f"{key}.file")
+    return ClosedFormRao(config.particulars())
 
 
-def _irregular(table: Mapping[str, object], key: str, base_dir: Path | None,
+def _irregular(config: IrregularTable, key: str, base_dir: Path | None,
                default_speed: float | None = None) -> IrregularSea:
-    v.check_keys(table, _IRREGULAR_KEYS, key)
-    d = DEFAULT_SEA
-    hs = v.number(table, "hs", key, default=d["hs"], lo=0.0, hi=20.0, unit="m")
-    tp = v.number(table, "tp", key, default=d["tp"], lo=2.0, hi=30.0, unit="s")
-    gamma = v.number(table, "gamma", key, default=d["gamma"], lo=1.0, hi=10.0, unit="-")
-    heading = v.number(table, "heading", key, default=d["heading"], unit="deg")
-    speed = v.number(table, "speed", key, default=d["speed"] if default_speed is None
-                     else default_speed, lo=0.0, hi=25.0, unit="m/s")
-    components = v.integer(table, "components", key, default=d["components"], lo=1, hi=5000)
-    peak = 2.0 * math.pi / tp
-    omega_min = v.number(table, "omega_min", key, default=DEFAULT_BAND[0] * peak, lo=0.0,
-                         lo_open=True, hi=20.0, unit="rad/s")
-    omega_max = v.number(table, "omega_max", key, default=DEFAULT_BAND[1] * peak,
-                         lo=omega_min, lo_open=True, hi=20.0, unit="rad/s")
-    spacing = v.choice(table, "spacing", key, SPACINGS, default=d["spacing"])
-    seed = v.integer(table, "seed", key, default=d["seed"], lo=0)
-    ramp = v.number(table, "ramp", key, default=d["ramp"], lo=0.0, unit="s")
-    rao = _rao(table.get("rao", d["rao"]), v.join(key, "rao"), base_dir)
+    omega_min, omega_max = config.band
+    speed = config.speed if config.speed is not None else (
+        DEFAULT_SEA["speed"] if default_speed is None else default_speed)
+    rao = _rao(config.rao, f"{key}.rao", base_dir)
     if isinstance(rao, RaoTable):
         lo, hi = rao.frequency_range
-        rao_key = v.join(key, "rao.file")
+        rao_key = f"{key}.rao.file"
         if omega_min < lo or omega_max > hi:
             raise SceneError(rao_key, rao.label, f"an RAO table covering the wave band "
                              f"[{omega_min:.4g}, {omega_max:.4g}] rad/s (it covers "
                              f"[{lo:g}, {hi:g}] rad/s; set omega_min/omega_max)")
-        if rao.heading_coordinate(math.radians(heading)) is None:
-            raise SceneError(rao_key, rao.label, f"an RAO table covering the heading {heading:g} deg")
-    return IrregularSea(Jonswap(hs, tp, gamma), rao, heading=math.radians(heading), speed=speed,
-                        components=components, omega_min=omega_min, omega_max=omega_max,
-                        spacing=spacing, seed=seed, ramp=ramp)
+        if rao.heading_coordinate(math.radians(config.heading)) is None:
+            raise SceneError(rao_key, rao.label, f"an RAO table covering the heading {config.heading:g} deg")
+    return IrregularSea(Jonswap(config.hs, config.tp, config.gamma), rao, heading=math.radians(config.heading),
+                        speed=speed, components=config.components, omega_min=omega_min, omega_max=omega_max,
+                        spacing=config.spacing, seed=config.seed, ramp=config.ramp)
 
 
-def _manoeuvre(table: Mapping[str, object], key: str, base_dir: Path | None) -> MotionSource:
-    v.check_keys(table, _MANOEUVRE_KEYS, key)
-    speed = v.number(table, "speed", key, lo=0.0, hi=30.0, unit="m/s")
-    speed_ramp = v.number(table, "speed_ramp", key, default=0.0, lo=0.0, unit="s")
-    initial_speed = v.number(table, "initial_speed", key,
-                             default=0.0 if speed_ramp > 0.0 else speed, lo=0.0, hi=30.0,
-                             unit="m/s")
-    if speed_ramp == 0.0 and initial_speed != speed:
-        raise SceneError(v.join(key, "speed_ramp"), table.get("speed_ramp", 0.0),
-                         "a finite number > 0 s when initial_speed differs from speed")
-    heading = v.number(table, "heading", key, default=0.0, unit="deg")
-    position = v.vector(table, "position", key, 2, default=(0.0, 0.0), unit="m")
-    turn_angle = v.number(table, "turn_angle", key, default=0.0, lo=0.0, hi=36000.0, unit="deg")
-    turn_start = v.number(table, "turn_start", key, default=0.0, lo=0.0, unit="s")
-    turn_ramp = v.number(table, "turn_ramp", key, default=10.0, lo=0.0, lo_open=True, unit="s")
-    rate = v.number(table, "turn_rate", key, default=None if turn_angle == 0.0 else v.REQUIRED,
-                    lo=-20.0, hi=20.0, unit="deg/s (non-zero; positive turns to port)")
-    if rate == 0.0:
-        raise SceneError(v.join(key, "turn_rate"), table["turn_rate"],
-                         "a finite non-zero number in [-20, 20] deg/s")
+def _manoeuvre(config: ManoeuvreTable, key: str, base_dir: Path | None) -> MotionSource:
     turn = None
-    if turn_angle > 0.0:
-        if turn_angle < abs(rate) * turn_ramp:
-            raise SceneError(v.join(key, "turn_angle"), table["turn_angle"],
-                             f">= |turn_rate| * turn_ramp = {abs(rate) * turn_ramp:g} deg "
-                             "(the angle turned while the rate ramps up and down)")
-        turn = Turn(turn_start, math.radians(rate), math.radians(turn_angle), turn_ramp)
-    base = Manoeuvre(speed, heading=math.radians(heading), position=position,
-                     initial_speed=initial_speed, speed_ramp=speed_ramp, turn=turn)
-    if "waves" not in table:
+    if config.turn_angle > 0.0:
+        turn = Turn(config.turn_start, math.radians(config.turn_rate), math.radians(config.turn_angle),
+                    config.turn_ramp)
+    base = Manoeuvre(config.speed, heading=math.radians(config.heading), position=config.position,
+                     initial_speed=config.start_speed, speed_ramp=config.speed_ramp, turn=turn)
+    if config.waves is None:
         return base
-    path = v.join(key, "waves")
-    waves_table = v.check_table(table["waves"], path, 'a table with type = "regular" or "irregular"')
-    kind = v.choice(waves_table, "type", path, ("regular", "irregular"))
-    waves = (_regular(waves_table, path) if kind == "regular"
-             else _irregular(waves_table, path, base_dir, default_speed=speed))
+    path = f"{key}.waves"
+    waves = (_regular(config.waves) if isinstance(config.waves, RegularTable)
+             else _irregular(config.waves, path, base_dir, default_speed=config.speed))
     return SuperposedMotion(base, waves)

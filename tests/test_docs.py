@@ -97,7 +97,7 @@ def test_worked_example_runs(example, tmp_path):
                                       f"--- stdout\n{done.stdout}\n--- stderr\n{done.stderr}")
 
 
-# ------------------------------------------------------- keys validated by other packages
+# ------------------------------------------------------- the declarations of ship_motion and controllers
 def _motion_error(table: dict) -> str:
     from ship_motion import motion_from_config
     from towcable_fmu.errors import SceneError
@@ -134,25 +134,59 @@ def test_motion_key_lists_match_the_validator():
     assert particulars | from_file == rao
 
 
+def _outside(cls: type) -> list[tuple[str, object]]:
+    """(key, a value just outside its declared range) for every bounded number of the
+    declaration ``cls``, and for those of its nested tables (``name.key``)."""
+    import dataclasses
+    import typing
+
+    from towcable_fmu.schema import _unwrap_optional
+
+    out = []
+    hints = typing.get_type_hints(cls)
+    for f in dataclasses.fields(cls):
+        sp = f.metadata.get("spec")
+        tp = _unwrap_optional(hints[f.name])[0]
+        if dataclasses.is_dataclass(tp):
+            out += [(f"{f.name}.{name}", value) for name, value in _outside(tp)]
+        elif sp is not None and tp in (int, float):
+            out += [(f.name, value) for value in (sp.gt, None if sp.ge is None else sp.ge - 1, sp.lt,
+                                                  None if sp.le is None else sp.le + 1) if value is not None]
+    return out
+
+
 def test_motion_key_ranges_match_the_validator():
-    """A value outside the documented range is refused, and the error names that key."""
-    from towcable_fmu.docs_gen import motion_key_rows
+    """A value outside a declared range is refused, and the error names that key (the
+    reference's allowed ranges come from the same declarations)."""
+    from ship_motion.config import MOTION_TABLES
 
     probed = 0
-    for kind, kind_rows in motion_key_rows().items():
-        for row in kind_rows:
-            if row["probe"] is None:
-                continue
+    for kind, cls in MOTION_TABLES.items():
+        for key, value in _outside(cls):
             table = {k: (dict(v) if isinstance(v, dict) else v) for k, v in MOTION_BASE[kind].items()}
-            parts = str(row["key"]).split(".")[1:]
+            *parents, name = key.split(".")
             target = table
-            for part in parts[:-1]:
+            for part in parents:
                 target = target.setdefault(part, {})
-            target[parts[-1]] = row["probe"]
+            target[name] = value
             message = _motion_error(table)
-            assert message.startswith(f"{row['key']} = "), (row["key"], row["probe"], message)
+            assert message.startswith(f"motion.{key} = "), (key, value, message)
             probed += 1
     assert probed > 40
+
+
+def test_compensation_key_ranges_match_the_validator():
+    from controllers.config import SetpointConfig, setpoint_config_from_table
+    from towcable_fmu.errors import SceneError
+
+    base = {"algorithm": "simplified_sheave", "reference_point": [0.0, 0.0, 1.0], "winch_radius": 0.3,
+            "phi_nom": 0.0, "theta_nom": 0.1}
+    probes = _outside(SetpointConfig)
+    assert len(probes) >= 8
+    for key, value in probes:
+        with pytest.raises(SceneError) as info:
+            setpoint_config_from_table({**base, key: value})
+        assert str(info.value).startswith(f"compensation.{key} = "), (key, value, str(info.value))
 
 
 def test_every_motion_compensation_and_rigid_link_key_is_in_the_reference():

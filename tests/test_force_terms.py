@@ -52,7 +52,7 @@ def test_the_registry_calls_every_term_in_order(function, kernel):
     ("hanging_cable", {}, set()),
     ("full_scale", {}, {"contact", "hydrodynamics", "towbody"}),
     ("tug_tow_ancf", {}, {"hydrodynamics", "towbody"}),
-    ("sea_trial_turn_rigid", {"cable.formulation": "ancf"}, {"hydrodynamics", "rigid_link"}),
+    ("sea_trial_turn_rigid", {"model": "ancf"}, {"hydrodynamics", "rigid_link"}),
     ("pulley_static", {}, {"contact", "rigid_load"}),
     ("viv_sheave", {}, {"contact", "hydrodynamics", "wake"}),
 ])

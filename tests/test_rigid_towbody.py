@@ -298,7 +298,7 @@ def test_sea_trial_rigid_scene_hangs_where_its_moments_balance(formulation):
     cancel, and a short run from there starts the tow."""
     from towcable_fmu.models import simulation_for
 
-    sim = simulation_for(load_scene("sea_trial_turn_rigid", {"cable.formulation": formulation}))
+    sim = simulation_for(load_scene("sea_trial_turn_rigid", {"model": formulation}))
     out = sim.initialize()
     rb = sim.scene.towbody.rigid
     body = sim.body_state()

@@ -1,13 +1,12 @@
 """Reference documentation generated from the code, so that it cannot drift.
 
-Three Markdown files: every scene key of every model (from the scene schemas,
-:mod:`towcable_fmu.scene.model` and :mod:`towcable_fmu.rigidlink.scene` via
-:func:`towcable_fmu.schema.describe`; the ``[motion]`` and ``[compensation]``
-tables, which :mod:`ship_motion` and :mod:`controllers` validate, from
-:func:`motion_key_rows` and :func:`compensation_key_rows`, whose key sets, defaults and
-ranges tests/test_docs.py checks against those validators), every FMU variable and
-connection (from the variable contract, :mod:`towcable_fmu.contract`), and the command
-line (from the argument parser of :mod:`towcable_fmu.cli`).
+Three Markdown files: every scene key of every model (from the declarations that also
+validate them, through :func:`towcable_fmu.schema.describe`: the scene's in
+:mod:`towcable_fmu.scene.model` and :mod:`towcable_fmu.rigidlink.scene`, the
+``[motion]`` table's in :mod:`ship_motion.config`, the ``[compensation]`` table's in
+:mod:`controllers.config`), every FMU variable and connection (from the variable
+contract, :mod:`towcable_fmu.contract`), and the command line (from the argument parser
+of :mod:`towcable_fmu.cli`).
 
 Regenerate with ``towcable docs --output docs/reference``; a test compares the committed
 files with a fresh generation.
@@ -21,7 +20,7 @@ from typing import Iterable, Sequence
 
 from . import contract
 from .scene.model import Scene
-from .schema import describe
+from .schema import describe, describe_variants
 
 #: The command that regenerates the committed reference (quoted in every file).
 REGENERATE = "towcable docs --output docs/reference"
@@ -58,203 +57,21 @@ def _table(head: Sequence[str], rows: Iterable[Sequence[str]]) -> list[str]:
 
 
 # ------------------------------------------------------------------ scene keys
-def _row(key: str, type_: str, unit: str, default: object, allowed: str, doc: str, probe: object = None
-         ) -> dict[str, object]:
-    """One documented key. A string ``default`` is written as given (a TOML string literal
-    must carry its quotes; other text describes the default), other values as TOML;
-    ``probe`` is a value the validator must refuse (for the tests)."""
-    from .schema import toml_text
+def motion_key_rows() -> dict[str, list[dict[str, str]]]:
+    """The keys of a scene's ``[motion]`` table by ``type``, from their declarations
+    (:data:`ship_motion.config.MOTION_TABLES`, validated by
+    :func:`ship_motion.config.motion_from_config`)."""
+    from ship_motion.config import MOTION_TABLES
 
-    text = default if isinstance(default, str) else toml_text(default)
-    return {"key": key, "type": type_, "unit": unit, "default": text, "allowed": allowed, "doc": doc,
-            "probe": probe}
+    return describe_variants(MOTION_TABLES, "motion")
 
 
-def motion_key_rows() -> dict[str, list[dict[str, object]]]:
-    """The keys of a scene's ``[motion]`` table by ``type`` (validated by
-    :func:`ship_motion.config.motion_from_config`).
+def compensation_key_rows() -> list[dict[str, str]]:
+    """The keys of a scene's ``[compensation]`` table, from their declaration
+    (:class:`controllers.config.SetpointConfig`)."""
+    from controllers.config import SetpointConfig
 
-    Defaults are taken from :data:`ship_motion.config.DEFAULT_SEA` and the frigate's
-    particulars where the validator takes them from there. Each row may carry a
-    ``probe``: a value outside the allowed range (tests/test_docs.py checks that the
-    validator refuses it naming the key).
-
-    Returns
-    -------
-    dict
-        ``type`` value -> rows (keys as in :func:`towcable_fmu.schema.describe`).
-    """
-    from ship_motion.config import _PARTICULAR_RANGES, DEFAULT_SEA, TYPES
-    from ship_motion.irregular import DEFAULT_BAND
-    from ship_motion.rao import FRIGATE
-    from ship_motion.spectrum import SPACINGS
-
-    def one_of(values) -> str:
-        return "one of " + ", ".join(repr(v) for v in values)
-
-    d = DEFAULT_SEA
-    kind = _row("motion.type", "string", "", "required", one_of(TYPES),
-                "kind of motion; the other keys depend on it", "wavy")
-    rows: dict[str, list[dict[str, object]]] = {"none": [dict(kind, doc="'none': the ship is still (no other keys)")]}
-    regular = [kind, _row("motion.ramp", "number", "s", 0.0, ">= 0 [s]",
-                          "the oscillations grow from zero over this time (the means do not)", -1.0)]
-    for dof, unit in (("surge", "m"), ("sway", "m"), ("heave", "m"), ("roll", "deg"), ("pitch", "deg"),
-                      ("yaw", "deg")):
-        limit = {"roll": "; |mean| + amplitude < 90 deg", "pitch": "; |mean| + amplitude < 90 deg",
-                 "yaw": "; <= 180 deg"}.get(dof, "")
-        regular += [
-            _row(f"motion.{dof}", "table", "", "absent", "a table",
-                 f"{dof} q(t) = mean + ramp(t) amplitude sin(2 pi t / period + phase) (absent: 0)"),
-            _row(f"motion.{dof}.mean", "number", unit, 0.0, f"a finite number [{unit}]", f"mean {dof}", "x"),
-            _row(f"motion.{dof}.amplitude", "number", unit, 0.0, f">= 0 [{unit}]{limit}", f"{dof} amplitude",
-                 -1.0),
-            _row(f"motion.{dof}.period", "number", "s", "absent", "> 0 [s]; required when amplitude > 0",
-                 f"{dof} period", 0.0),
-            _row(f"motion.{dof}.phase", "number", "deg", 0.0, "a finite number [deg]", f"{dof} phase", "x"),
-        ]
-    rows["regular"] = regular
-    rows["time_series"] = [
-        kind,
-        _row("motion.file", "string", "", "required", "a CSV file (relative to the scene file's folder)",
-             "recorded motion: columns t, x, y, z, roll, pitch, yaw (position format) or t, vx, vy, vz, roll, "
-             "pitch, yaw (velocity format); interpolated by a quintic spline, no extrapolation", 1.0),
-        _row("motion.format", "string", "", "absent", one_of(("position", "velocity")),
-             "column layout (absent: from the header)", "speed"),
-        _row("motion.angle_unit", "string", "", '"deg"', one_of(("deg", "rad")), "unit of the angle columns",
-             "grad"),
-        _row("motion.initial_position", "list of 3 numbers", "m", [0.0, 0.0, 0.0], "3 finite numbers [m]",
-             "CG position at the first sample (velocity format only: the velocities are integrated from it)",
-             [0.0, 0.0]),
-        _row("motion.time_offset", "number", "s", 0.0, "a finite number [s]",
-             "record time at simulation time 0", "x"),
-    ]
-    band = f"{DEFAULT_BAND[0]:g} x 2 pi / tp"  # the validator's default band
-    irregular = [
-        kind,
-        _row("motion.hs", "number", "m", d["hs"], ">= 0 and <= 20 [m]", "significant wave height (JONSWAP)", 21.0),
-        _row("motion.tp", "number", "s", d["tp"], ">= 2 and <= 30 [s]", "peak period", 1.0),
-        _row("motion.gamma", "number", "-", d["gamma"], ">= 1 and <= 10", "peak enhancement factor "
-             "(1: Pierson-Moskowitz)", 0.5),
-        _row("motion.heading", "number", "deg", d["heading"], "a finite number [deg]",
-             "direction the waves travel, from the ship's X axis counter-clockwise (180: head seas)", "x"),
-        _row("motion.speed", "number", "m/s", d["speed"], ">= 0 and <= 25 [m/s]",
-             "ship speed for the encounter frequency (in [motion.waves] of a manoeuvre: its speed)", -1.0),
-        _row("motion.components", "integer", "-", d["components"], ">= 1 and <= 5000", "wave components", 0),
-        _row("motion.omega_min", "number", "rad/s", band, "> 0 and <= 20 [rad/s]", "lower end of the wave band",
-             0.0),
-        _row("motion.omega_max", "number", "rad/s", f"{DEFAULT_BAND[1]:g} x 2 pi / tp",
-             "> omega_min and <= 20 [rad/s]", "upper end of the wave band", 21.0),
-        _row("motion.spacing", "string", "", f'"{d["spacing"]}"', one_of(SPACINGS),
-             "component frequencies: random within each bin, or the bin centres", "log"),
-        _row("motion.seed", "integer", "-", d["seed"], ">= 0", "seed of the random phases (and frequencies)", -1),
-        _row("motion.ramp", "number", "s", d["ramp"], ">= 0 [s]", "the sea grows from calm over this time", -1.0),
-        _row("motion.rao", "table", "", "the closed-form frigate below", "a table",
-             "response amplitude operators: the hull particulars below (closed form), or a file"),
-    ]
-    docs = {"length": "length between perpendiculars", "beam": "beam", "draught": "draught",
-            "block_coefficient": "block coefficient", "roll_period": "natural roll period",
-            "roll_damping": "roll damping (fraction of critical)"}
-    for name, (lo, lo_open, hi, unit) in _PARTICULAR_RANGES.items():
-        irregular.append(_row(f"motion.rao.{name}", "number", unit, getattr(FRIGATE, name),
-                              f"{'>' if lo_open else '>='} {lo:g} and <= {hi:g}" + (f" [{unit}]" if unit != "-" else ""),
-                              docs[name], hi + 1.0))
-    irregular += [
-        _row("motion.rao.file", "string", "", "absent", "an RAO CSV file (then no hull particulars)",
-             "RAO table: columns omega, heading, <dof>_amp, <dof>_phase; must cover the wave band and heading", 1.0),
-        _row("motion.rao.angle_unit", "string", "", '"deg"', one_of(("deg", "rad")),
-             "unit of the rotational amplitudes and of all phases in the RAO file"),
-    ]
-    rows["irregular"] = irregular
-    rows["manoeuvre"] = [
-        kind,
-        _row("motion.speed", "number", "m/s", "required", ">= 0 and <= 30 [m/s]", "cruise speed", 31.0),
-        _row("motion.speed_ramp", "number", "s", 0.0, ">= 0 [s]",
-             "time to ramp from initial_speed to speed, from t = 0", -1.0),
-        _row("motion.initial_speed", "number", "m/s", "absent", ">= 0 and <= 30 [m/s]; differing from speed "
-             "needs speed_ramp > 0", "speed at t = 0 (absent: 0 with a speed ramp, else speed)", 31.0),
-        _row("motion.heading", "number", "deg", 0.0, "a finite number [deg]", "initial heading (yaw)", "x"),
-        _row("motion.position", "list of 2 numbers", "m", [0.0, 0.0], "2 finite numbers [m]", "initial CG (x, y)",
-             [0.0]),
-        _row("motion.turn_angle", "number", "deg", 0.0, ">= 0 and <= 36000 [deg]; >= |turn_rate| x turn_ramp",
-             "total heading change of the turn (0: no turn)", -1.0),
-        _row("motion.turn_rate", "number", "deg/s", "absent", ">= -20 and <= 20 [deg/s], non-zero; required when "
-             "turn_angle > 0", "yaw rate of the turn (> 0 turns to port)", 21.0),
-        _row("motion.turn_start", "number", "s", 0.0, ">= 0 [s]", "time the yaw rate starts to ramp up", -1.0),
-        _row("motion.turn_ramp", "number", "s", 10.0, "> 0 [s]", "time for the yaw rate to ramp up (and down)", 0.0),
-        _row("motion.waves", "table", "", "absent", "a table with type = 'regular' or 'irregular'",
-             "waves superposed on the manoeuvre: the keys of that type, under motion.waves."),
-    ]
-    return rows
-
-
-#: Defaults of the ``[compensation]`` keys in a scene (the scene supplies some).
-COMPENSATION_DEFAULTS: dict[str, str] = {
-    "algorithm": "required",
-    "reference_point": "the sheave centre (without a sheave: the top of the winch drum)",
-    "winch_radius": "the winch's (to the cable centreline)",
-    "phi_nom": "winch.phi_nom",
-    "theta_nom": "the model's own static departure angle",
-    "waterline_z": "water.surface_z (0 without water)",
-    "max_payout": "absent",
-    "max_winch_speed": "absent",
-    "max_winch_acceleration": "absent",
-    "tension_target": "absent (required by constant_tension)",
-    "tension_gain": "absent (required by constant_tension)",
-}
-
-
-#: Meanings of ``[compensation]`` keys whose docstring entry does not read well alone.
-COMPENSATION_DOCS: dict[str, str] = {
-    "algorithm": "set-point algorithm: W(2) sheave or W(1) waterline reference, simplified (nominal departure "
-                 "angle) or rigorous (measured sheave angle); constant_tension: a constant-tension winch (payout "
-                 "from the measured tension); 'none' holds the winch",
-}
-
-
-def _parameter_docs(cls: type) -> dict[str, str]:
-    """The numpy-style ``Parameters`` section of a class docstring: name -> first sentence."""
-    import inspect
-    import re
-
-    text = inspect.getdoc(cls) or ""
-    section = text.split("Parameters\n----------\n", 1)[-1].split("\n\n", 1)[0] if "Parameters" in text else ""
-    docs: dict[str, list[str]] = {}
-    name = None
-    for line in section.splitlines():
-        if line and not line.startswith(" "):
-            name = line.split(":")[0].strip()
-            docs[name] = []
-        elif name is not None:
-            docs[name].append(line.strip())
-    out = {}
-    for key, lines in docs.items():
-        joined = " ".join(lines)
-        out[key] = re.split(r"(?<=\.)\s", joined, maxsplit=1)[0].rstrip(".").replace("``", "")
-    return out
-
-
-def compensation_key_rows() -> list[dict[str, object]]:
-    """The keys of a scene's ``[compensation]`` table (validated by
-    :func:`controllers.config.setpoint_config_from_table`): names and meanings from
-    :class:`controllers.config.SetpointConfig`, allowed values (with the unit) from
-    :data:`controllers.config.ALLOWED`, defaults from :data:`COMPENSATION_DEFAULTS`."""
-    import dataclasses
-    import re
-
-    from controllers.config import ALLOWED, SetpointConfig
-
-    meaning = _parameter_docs(SetpointConfig)
-    rows = []
-    for f in dataclasses.fields(SetpointConfig):
-        allowed = ALLOWED[f.name]
-        units = re.findall(r"\[([^\[\]]+)\]", allowed)  # the last [...] without brackets inside
-        kind = ("string" if f.name == "algorithm" else "list of 3 numbers" if f.name == "reference_point"
-                else "number")
-        default = COMPENSATION_DEFAULTS[f.name]
-        rows.append({"key": f"compensation.{f.name}", "type": kind, "unit": units[-1] if units else "",
-                     "default": default, "allowed": allowed,
-                     "doc": COMPENSATION_DOCS.get(f.name) or meaning.get(f.name, "")})
-    return rows
+    return describe(SetpointConfig, "compensation")
 
 
 def _section(rows: Sequence[dict], level: str, suffix: str = "") -> list[str]:
@@ -305,16 +122,12 @@ def _motion_section(level: str) -> list[str]:
 def scene_keys_markdown() -> str:
     """Every scene key of every model: meaning, unit, default and allowed values, by table."""
     from .rigidlink.scene import RigidLinkScene
-    from .scene.loader import MODELS
+    from .scene.loader import ModelChoice
 
     rows = describe(Scene)
-    model = {"key": "model", "type": "string", "unit": "", "default": '"ancf"',
-             "allowed": "one of " + ", ".join(repr(m) for m in MODELS),
-             "doc": "the model: 'ancf' for the cable models of this page (cable.formulation chooses ANCF or "
-                    "nodal-position elements), 'rigid_link' for the tug-and-tow model of chains of rigid links "
-                    "(its keys are listed at the end)"}
-    lines = _header("Scene keys", "the scene schemas (towcable_fmu/scene/model.py, towcable_fmu/rigidlink/scene.py)"
-                    " and the [motion] and [compensation] key lists of towcable_fmu/docs_gen.py")
+    model = describe(ModelChoice)[0]
+    lines = _header("Scene keys", "the declarations of towcable_fmu/scene/model.py, towcable_fmu/rigidlink/scene.py, "
+                    "ship_motion/config.py and controllers/config.py")
     lines += ["A scene is a TOML file (see the README, section Scenes). Keys are listed by their dotted path, as "
               "`towcable ... --set KEY=VALUE` takes them; `[]` marks an array of tables (`[[cable.segments]]`, "
               "overridden as `cable.segments[0].elements`). Units are SI unless given; `-` is dimensionless. "
@@ -322,7 +135,8 @@ def scene_keys_markdown() -> str:
               "\"required\" keys must be given when their table is. A table's default is the whole table "
               "used when it is left out. Unknown keys and values outside the allowed range are errors that "
               "name the key.", "",
-              "Contents: the cable models (`model = \"ancf\"`, the default), with the keys of the ship motion "
+              "Contents: the cable models (`model = \"ancf\"`, the default, and `model = \"nodal_position\"`), "
+              "with the keys of the ship motion "
               "(`[motion]`) and of the heave compensation (`[compensation]`); then the rigid-link model "
               "(`model = \"rigid_link\"`).", ""]
     lines += _section([model] + rows, "##")

@@ -46,7 +46,7 @@ class NodalSimulation(SimulationDriver):
     Parameters
     ----------
     scene
-        A validated scene with ``cable.formulation = "nodal_position"``.
+        A validated scene with ``model = "nodal_position"``.
     """
 
     STATE_FIELDS = NodalState._fields

@@ -9,6 +9,7 @@ before validation so that they are validated like the file itself.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import difflib
 import json
 import re
@@ -18,8 +19,8 @@ from typing import TYPE_CHECKING, Any, Iterable, Mapping
 
 from ..builtin_scenes import builtin_scene_names, builtin_scene_text
 from ..errors import SceneError
+from ..schema import parse, spec
 from .model import Scene
-from ..schema import parse
 
 if TYPE_CHECKING:
     from ..rigidlink.scene import RigidLinkScene
@@ -177,18 +178,50 @@ def load_scene(name_or_path: str | Path,
     return scene_from_table(table)
 
 
-#: Model kinds a scene may name with its top-level ``model`` key (default "ancf").
-MODELS = ("ancf", "rigid_link")
+#: Model kinds a scene names with its top-level ``model`` key.
+MODELS = ("ancf", "nodal_position", "rigid_link")
+
+
+@dataclasses.dataclass(frozen=True)
+class ModelChoice:
+    """The one key that picks the model kind of a scene."""
+
+    model: str = spec("ancf", choices=MODELS,
+                      doc="the model kind: 'ancf' (gradient-deficient ANCF cable elements, Westin 2018) and "
+                          "'nodal_position' (straight two-node elements in nodal positions, Sun et al., "
+                          "towcable_fmu/nodal/; no bending, top pinned, bottom free with the lumped body) take the "
+                          "cable keys of this page; 'rigid_link' is the tug-and-tow model of chains of rigid links "
+                          "(its keys are listed at the end). Older scenes write the cable kinds as "
+                          "cable.formulation, an alias kept for them")
+
+
+def _model_kind(table: Mapping[str, Any]) -> str:
+    """The model kind a scene document asks for: its ``model`` key, else the alias
+    ``cable.formulation``, else "ancf". Both given must agree."""
+    cable = table.get("cable")
+    alias = cable.get("formulation") if isinstance(cable, Mapping) else None
+    if "model" not in table:
+        return "ancf" if alias is None else alias  # the Cable declaration validates the alias
+    model = parse(ModelChoice, {"model": table["model"]}, "").model
+    if alias is not None and alias != model:
+        raise SceneError("cable.formulation", alias, f"absent: the top-level key model = {model!r} picks the model "
+                         "kind (cable.formulation is its older alias)")
+    return model
 
 
 def scene_from_table(table: dict) -> Scene | RigidLinkScene:
     """Validate a parsed TOML document into a :class:`Scene` (or, with ``model =
-    "rigid_link"``, a :class:`~towcable_fmu.rigidlink.scene.RigidLinkScene`)."""
-    model = table.get("model", "ancf")
-    if model not in MODELS:
-        raise SceneError("model", model, "one of " + ", ".join(repr(m) for m in MODELS))
+    "rigid_link"``, a :class:`~towcable_fmu.rigidlink.scene.RigidLinkScene`).
+
+    The top-level ``model`` key picks the model kind (:class:`ModelChoice`); for the
+    cable kinds the scene's ``cable.formulation`` carries it (the key older scenes write).
+    """
+    model = _model_kind(table)
     if model == "rigid_link":
         from ..rigidlink.scene import RigidLinkScene  # here: rigidlink.scene itself imports this package
 
         return parse(RigidLinkScene, table, "")
-    return parse(Scene, {k: v for k, v in table.items() if k != "model"}, "")
+    scene = {k: v for k, v in table.items() if k != "model"}
+    if isinstance(scene.get("cable"), Mapping):
+        scene["cable"] = {**scene["cable"], "formulation": model}
+    return parse(Scene, scene, "")

@@ -156,9 +156,9 @@ class Cable:
     bottom: End = spec(End(), doc="end at the last node")
     initial: InitialShape = spec(InitialShape(), doc="rough initial shape for the statics solver")
     formulation: str = spec("ancf", choices=("ancf", "nodal_position"),
-                            doc="ancf: gradient-deficient ANCF elements (Westin 2018); nodal_position: straight "
-                                "two-node elements in nodal positions (Sun et al., towcable_fmu/nodal/; no "
-                                "bending, top pinned, bottom free with the lumped body)")
+                            doc="older alias of the top-level key model (ancf or nodal_position): write model = "
+                                "'nodal_position' at the top of the scene instead; given with model, the two must "
+                                "agree. The loaded scene carries the model kind here")
 
     def validate(self, key: str) -> None:
         """Cross-field checks."""
@@ -476,7 +476,7 @@ class SolverSettings:
     time_step: float = spec(0.01, unit="s", gt=0.0, le=10.0, doc="nominal (maximum) time step h")
     integrator: str = spec("genalpha", choices=("genalpha", "rk4", "leapfrog"),
                            doc="genalpha: implicit generalised-alpha with Newton; rk4: explicit classical "
-                               "Runge-Kutta with fixed steps (cable.formulation = 'nodal_position' only); "
+                               "Runge-Kutta with fixed steps (model = 'nodal_position' only); "
                                "leapfrog: explicit, lumped masses, one force evaluation per step, time_step at "
                                "most 0.9 times the mesh's stability limit (nodal_position with a lumped body only; "
                                "towcable_fmu/nodal/explicit.py)")
@@ -546,6 +546,11 @@ class Scene:
     base_dir: str = spec("", doc="folder against which relative file paths are resolved "
                                  "(default: the scene file's folder, or the working directory)")
 
+    @property
+    def model(self) -> str:
+        """The model kind, the scene's top-level ``model`` key: "ancf" or "nodal_position"."""
+        return self.cable.formulation
+
     def _check_spool(self) -> None:
         """A spool end stores cable on the drum, and the gear carries the fed segment's cable."""
         if self.winch.stored_length is None:
@@ -581,7 +586,7 @@ class Scene:
         need = f"{self.explicit_step():.4g} s"
         if self.cable.formulation != "nodal_position":
             raise SceneError("solver.integrator", "leapfrog",
-                             f"'genalpha' unless cable.formulation = 'nodal_position' (the explicit path has no "
+                             f"'genalpha' unless model = 'nodal_position' (the explicit path has no "
                              f"bending, winch, sheave or contact; on this mesh it would need solver.time_step <= "
                              f"{need})")
         if self.towbody is not None and self.towbody.model == "rigid":
@@ -596,7 +601,7 @@ class Scene:
     def validate(self, key: str) -> None:
         """Cross-section checks."""
         if self.solver.integrator == "rk4" and self.cable.formulation != "nodal_position":
-            raise SceneError("solver.integrator", "rk4", "'genalpha' unless cable.formulation = 'nodal_position'")
+            raise SceneError("solver.integrator", "rk4", "'genalpha' unless model = 'nodal_position'")
         if self.solver.integrator == "leapfrog":
             self._check_explicit()
         if (self.cable.top.type in ("winch", "spool")) != (self.winch is not None):
@@ -651,7 +656,7 @@ class Scene:
             if s >= n:
                 raise SceneError(f"viv.segments[{i}]", s, f"an index below {n} (the number of cable segments)")
         if self.cable.formulation != "ancf":
-            raise SceneError("viv", "[viv]", "absent unless cable.formulation = 'ancf'")
+            raise SceneError("viv", "[viv]", "absent unless model = 'ancf'")
         diameters = {self.cable.segments[s].diameter for s in viv.segments}
         if len(diameters) > 1:
             raise SceneError("viv.segments", list(viv.segments), "segments of one diameter (one Strouhal "
