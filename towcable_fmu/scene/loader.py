@@ -178,8 +178,9 @@ def load_scene(name_or_path: str | Path,
     return scene_from_table(table)
 
 
-#: Model kinds a scene names with its top-level ``model`` key.
-MODELS = ("ancf", "nodal_position", "rigid_link")
+#: Model kinds a scene names with its top-level ``model`` key ("nodal_position" last: it
+#: was first chosen by cable.formulation alone).
+MODELS = ("ancf", "rigid_link", "nodal_position")
 
 
 @dataclasses.dataclass(frozen=True)
