@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import InitVar, dataclass
+from functools import partial
 from typing import ClassVar
 
 from towcable_fmu.errors import SceneError
@@ -30,6 +31,10 @@ MOTION_ALGORITHMS: tuple[str, ...] = (
 #: Algorithm names, as used by the command line and the HeaveCompensation FMU: the motion
 #: algorithms and the constant-tension winch (:class:`controllers.TensionControl`).
 ALGORITHMS: tuple[str, ...] = MOTION_ALGORITHMS + ("constant_tension",)
+
+#: :func:`~towcable_fmu.schema.spec` of a compensation key: ranges as intervals, the
+#: algorithms as bare names (``one of none, simplified_sheave, ...``).
+compensation_spec = partial(spec, notation="interval")
 
 
 @dataclass(frozen=True)
@@ -48,36 +53,41 @@ class SetpointConfig:
         If a value is out of range; the error names ``<key>.<field>``.
     """
 
-    algorithm: str = spec(choices=ALGORITHMS,
-                          doc="set-point algorithm: W(2) sheave or W(1) waterline reference, simplified (nominal "
-                              "departure angle) or rigorous (measured sheave angle); constant_tension: a "
-                              "constant-tension winch (payout from the measured tension); 'none' holds the winch")
-    reference_point: tuple[float, float, float] = spec(
+    algorithm: str = compensation_spec(
+        choices=ALGORITHMS,
+        doc="set-point algorithm: W(2) sheave or W(1) waterline reference, simplified (nominal departure angle) or "
+            "rigorous (measured sheave angle); constant_tension: a constant-tension winch (payout from the measured "
+            "tension); 'none' holds the winch")
+    reference_point: tuple[float, float, float] = compensation_spec(
         unit="m", length=3, default_text="the sheave centre (without a sheave: the top of the winch drum)",
         doc="body-frame position s_ref of the point whose displacement is compensated, normally the sheave "
             "centre; its nominal inertial position is s_ref itself (ship at the origin with zero angles)")
-    winch_radius: float = spec(unit="m", gt=0.0, default_text="the winch's (to the cable centreline)",
-                               doc="winch drum radius r_w (W(120))")
-    phi_nom: float = spec(unit="rad", default_text="winch.phi_nom",
-                          doc="nominal winch angle phi_nom; the set-point is phi_sp = phi_nom - payout / r_w")
-    theta_nom: float = spec(unit="rad", ge=0.0, lt=0.5 * math.pi,
-                            default_text="the model's own static departure angle",
-                            doc="nominal (steady-state) cable departure angle from the inertial vertical, "
-                                "positive when the cable trails aft")
-    waterline_z: float = spec(0.0, unit="m", default_text="water.surface_z (0 without water)",
-                              doc="inertial height of the waterline (0 when the origin is at the mean waterline)")
-    max_payout: float | None = spec(None, unit="m", gt=0.0,
-                                    doc="largest payout magnitude (absent: no limit); the payout is clipped to "
-                                        "[-max_payout, max_payout] and its rate is zero while clipped")
-    max_winch_speed: float | None = spec(
+    winch_radius: float = compensation_spec(
+        unit="m", gt=0.0, default_text="the winch's (to the cable centreline)", doc="winch drum radius r_w (W(120))")
+    phi_nom: float = compensation_spec(
+        unit="rad", default_text="winch.phi_nom",
+        doc="nominal winch angle phi_nom; the set-point is phi_sp = phi_nom - payout / r_w")
+    theta_nom: float = compensation_spec(
+        unit="rad", ge=0.0, lt=0.5 * math.pi, default_text="the model's own static departure angle",
+        doc="nominal (steady-state) cable departure angle from the inertial vertical, positive when the cable "
+            "trails aft")
+    waterline_z: float = compensation_spec(
+        0.0, unit="m", default_text="water.surface_z (0 without water)",
+        doc="inertial height of the waterline (0 when the origin is at the mean waterline)")
+    max_payout: float | None = compensation_spec(
+        None, unit="m", gt=0.0,
+        doc="largest payout magnitude (absent: no limit); the payout is clipped to [-max_payout, max_payout] and "
+            "its rate is zero while clipped")
+    max_winch_speed: float | None = compensation_spec(
         None, unit="rad/s", gt=0.0,
         doc="largest winch set-point speed magnitude (absent: no limit); the motion algorithms clip only the "
             "rate phi_sp_rate (phi_sp still follows the payout), constant_tension integrates the clipped rate")
-    max_winch_acceleration: float | None = spec(None, unit="rad/s^2", gt=0.0,
-                                                doc="largest change of the set-point speed (constant_tension only; "
-                                                    "absent: no limit)")
-    tension_target: float | None = spec(None, unit="N", gt=0.0, doc="tension the constant_tension winch holds")
-    tension_gain: float | None = spec(
+    max_winch_acceleration: float | None = compensation_spec(
+        None, unit="rad/s^2", gt=0.0,
+        doc="largest change of the set-point speed (constant_tension only; absent: no limit)")
+    tension_target: float | None = compensation_spec(
+        None, unit="N", gt=0.0, doc="tension the constant_tension winch holds")
+    tension_gain: float | None = compensation_spec(
         None, unit="m/(s N)", gt=0.0,
         doc="payout rate per newton of measured tension above the target (constant_tension): with a cable of "
             "axial stiffness k [N/m] between the winch and a fixed point, the tension loop's bandwidth is "

@@ -124,8 +124,8 @@ class Yaw(Rotation):
 
 
 def _dof(name: str, axis: str) -> object:
-    return motion_spec(None, doc=f"{name} ({axis}): q(t) = mean + ramp(t) amplitude sin(2 pi t / period + phase); "
-                         "absent: 0", default_text="absent")
+    return motion_spec(None, default_text="absent",
+                       doc=f"{name} ({axis}): q(t) = mean + ramp(t) amplitude sin(2 pi t / period + phase); absent: 0")
 
 
 @dataclass(frozen=True)
@@ -134,7 +134,8 @@ class RegularTable:
 
     KIND: ClassVar[str] = "regular"
 
-    ramp: float = motion_spec(0.0, ge=0.0, unit="s", doc="the oscillations grow from zero over this time (the means do not)")
+    ramp: float = motion_spec(0.0, ge=0.0, unit="s",
+                              doc="the oscillations grow from zero over this time (the means do not)")
     surge: Oscillation | None = _dof("surge", "x")
     sway: Oscillation | None = _dof("sway", "y")
     heave: Oscillation | None = _dof("heave", "z")
@@ -149,9 +150,11 @@ class TimeSeriesTable:
 
     KIND: ClassVar[str] = "time_series"
 
-    file: str = motion_spec(doc="recorded motion: columns t, x, y, z, roll, pitch, yaw (position format) or t, vx, vy, vz, "
-                        "roll, pitch, yaw (velocity format); a CSV file relative to the scene file's folder")
-    format: str | None = motion_spec(None, choices=("position", "velocity"), doc="column layout (absent: from the header)")
+    file: str = motion_spec(
+        doc="recorded motion: columns t, x, y, z, roll, pitch, yaw (position format) or t, vx, vy, vz, roll, pitch, "
+            "yaw (velocity format); a CSV file relative to the scene file's folder")
+    format: str | None = motion_spec(None, choices=("position", "velocity"),
+                                     doc="column layout (absent: from the header)")
     angle_unit: str = motion_spec("deg", choices=("deg", "rad"), doc="unit of the angle columns")
     initial_position: tuple[float, float, float] | None = motion_spec(
         None, length=3, unit="m", default_text="[0.0, 0.0, 0.0]",
@@ -166,20 +169,22 @@ class RaoConfig:
     """Response amplitude operators: the hull particulars (closed form) or a file."""
 
     length: float | None = motion_spec(None, gt=0.0, le=500.0, unit="m", default_text=f"{FRIGATE.length:g}",
-                               doc="length between perpendiculars")
+                                       doc="length between perpendiculars")
     beam: float | None = motion_spec(None, gt=0.0, le=100.0, unit="m", default_text=f"{FRIGATE.beam:g}", doc="beam")
     draught: float | None = motion_spec(None, gt=0.0, le=30.0, unit="m", default_text=f"{FRIGATE.draught:g}",
-                                doc="draught")
+                                        doc="draught")
     block_coefficient: float | None = motion_spec(None, ge=0.3, le=1.0, unit="-",
-                                          default_text=f"{FRIGATE.block_coefficient:g}", doc="block coefficient")
-    roll_period: float | None = motion_spec(None, ge=1.0, le=60.0, unit="s", default_text=f"{FRIGATE.roll_period:g}",
-                                    doc="natural roll period")
-    roll_damping: float | None = motion_spec(None, gt=0.0, le=1.0, unit="-", default_text=f"{FRIGATE.roll_damping:g}",
-                                     doc="roll damping (fraction of critical)")
-    file: str | None = motion_spec(None, doc="RAO table: columns omega, heading, <dof>_amp, <dof>_phase; must cover the "
-                                     "wave band and the heading")
+                                                  default_text=f"{FRIGATE.block_coefficient:g}",
+                                                  doc="block coefficient")
+    roll_period: float | None = motion_spec(None, ge=1.0, le=60.0, unit="s",
+                                            default_text=f"{FRIGATE.roll_period:g}", doc="natural roll period")
+    roll_damping: float | None = motion_spec(None, gt=0.0, le=1.0, unit="-",
+                                             default_text=f"{FRIGATE.roll_damping:g}",
+                                             doc="roll damping (fraction of critical)")
+    file: str | None = motion_spec(
+        None, doc="RAO table: columns omega, heading, <dof>_amp, <dof>_phase; must cover the wave band and the heading")
     angle_unit: str | None = motion_spec(None, choices=("deg", "rad"), default_text='"deg"',
-                                 doc="unit of the rotational amplitudes and of all phases in the RAO file")
+                                         doc="unit of the rotational amplitudes and of all phases in the RAO file")
 
     PARTICULARS: ClassVar[tuple[str, ...]] = ("length", "beam", "draught", "block_coefficient", "roll_period",
                                               "roll_damping")
@@ -210,23 +215,29 @@ class IrregularTable:
 
     hs: float = motion_spec(DEFAULT_SEA["hs"], ge=0.0, le=20.0, unit="m", doc="significant wave height (JONSWAP)")
     tp: float = motion_spec(DEFAULT_SEA["tp"], ge=2.0, le=30.0, unit="s", doc="peak period")
-    gamma: float = motion_spec(DEFAULT_SEA["gamma"], ge=1.0, le=10.0, unit="-", doc="peak enhancement factor (1: Pierson-Moskowitz)")
-    heading: float = motion_spec(DEFAULT_SEA["heading"], unit="deg",
-                         doc="direction the waves travel, from the ship's X axis counter-clockwise (180: head seas)")
-    speed: float | None = motion_spec(None, ge=0.0, le=25.0, unit="m/s",
-                              default_text=f"{DEFAULT_SEA['speed']:g} (in motion.waves of a manoeuvre: its speed)",
-                              doc="ship speed for the encounter frequency")
+    gamma: float = motion_spec(DEFAULT_SEA["gamma"], ge=1.0, le=10.0, unit="-",
+                               doc="peak enhancement factor (1: Pierson-Moskowitz)")
+    heading: float = motion_spec(
+        DEFAULT_SEA["heading"], unit="deg",
+        doc="direction the waves travel, from the ship's X axis counter-clockwise (180: head seas)")
+    speed: float | None = motion_spec(
+        None, ge=0.0, le=25.0, unit="m/s",
+        default_text=f"{DEFAULT_SEA['speed']:g} (in motion.waves of a manoeuvre: its speed)",
+        doc="ship speed for the encounter frequency")
     components: int = motion_spec(DEFAULT_SEA["components"], ge=1, le=5000, unit="-", doc="wave components")
-    omega_min: float | None = motion_spec(None, gt=0.0, le=20.0, unit="rad/s",
-                                  default_text=f"{DEFAULT_BAND[0]:g} x 2 pi / tp", doc="lower end of the wave band")
-    omega_max: float | None = motion_spec(None, gt=0.0, le=20.0, unit="rad/s",
-                                  default_text=f"{DEFAULT_BAND[1]:g} x 2 pi / tp", doc="upper end of the wave band")
+    omega_min: float | None = motion_spec(
+        None, gt=0.0, le=20.0, unit="rad/s", default_text=f"{DEFAULT_BAND[0]:g} x 2 pi / tp",
+        doc="lower end of the wave band")
+    omega_max: float | None = motion_spec(
+        None, gt=0.0, le=20.0, unit="rad/s", default_text=f"{DEFAULT_BAND[1]:g} x 2 pi / tp",
+        doc="upper end of the wave band")
     spacing: str = motion_spec(DEFAULT_SEA["spacing"], choices=SPACINGS,
-                       doc="component frequencies: random within each bin, or the bin centres")
+                               doc="component frequencies: random within each bin, or the bin centres")
     seed: int = motion_spec(DEFAULT_SEA["seed"], ge=0, unit="-", doc="seed of the random phases (and frequencies)")
     ramp: float = motion_spec(DEFAULT_SEA["ramp"], ge=0.0, unit="s", doc="the sea grows from calm over this time")
-    rao: RaoConfig = motion_spec(RaoConfig(), default_text="the closed-form frigate below",
-                         doc="response amplitude operators: the hull particulars below (closed form), or a file")
+    rao: RaoConfig = motion_spec(
+        RaoConfig(), default_text="the closed-form frigate below",
+        doc="response amplitude operators: the hull particulars below (closed form), or a file")
 
     RULES: ClassVar[dict[str, str]] = {"omega_max": "> omega_min"}
 
@@ -253,12 +264,13 @@ class ManoeuvreTable:
     speed: float = motion_spec(ge=0.0, le=30.0, unit="m/s", doc="cruise speed")
     speed_ramp: float = motion_spec(0.0, ge=0.0, unit="s", doc="time to ramp from initial_speed to speed, from t = 0")
     initial_speed: float | None = motion_spec(None, ge=0.0, le=30.0, unit="m/s",
-                                      default_text="0 with a speed ramp, else speed", doc="speed at t = 0")
+                                              default_text="0 with a speed ramp, else speed", doc="speed at t = 0")
     heading: float = motion_spec(0.0, unit="deg", doc="initial heading (yaw)")
     position: tuple[float, float] = motion_spec([0.0, 0.0], length=2, unit="m", doc="initial CG (x, y)")
-    turn_angle: float = motion_spec(0.0, ge=0.0, le=36000.0, unit="deg", doc="total heading change of the turn (0: no turn)")
+    turn_angle: float = motion_spec(0.0, ge=0.0, le=36000.0, unit="deg",
+                                    doc="total heading change of the turn (0: no turn)")
     turn_rate: float | None = motion_spec(None, ge=-20.0, le=20.0, unit="deg/s",
-                                  doc="yaw rate of the turn (> 0 turns to port)")
+                                          doc="yaw rate of the turn (> 0 turns to port)")
     turn_start: float = motion_spec(0.0, ge=0.0, unit="s", doc="time the yaw rate starts to ramp up")
     turn_ramp: float = motion_spec(10.0, gt=0.0, unit="s", doc="time for the yaw rate to ramp up (and down)")
     waves: RegularTable | IrregularTable | None = motion_spec(

@@ -57,8 +57,9 @@ class Spec:
     length
         Required length for vectors (lists of numbers).
     notation
-        How a range is written: ``"comparison"`` (``> 0 and <= 10 [s]``) or
-        ``"interval"`` (``a finite number in (0, 10] s``).
+        How a range and choices are written: ``"comparison"`` (``> 0 and <= 10 [s]``,
+        ``one of 'a', 'b'``) or ``"interval"`` (``a finite number in (0, 10] s``,
+        ``one of a, b``).
     default_text
         The default in words, for a default that is not a constant of the declaration
         (absent in the table and computed from other values); shown in the reference.
@@ -79,7 +80,8 @@ class Spec:
         """Human-readable description of the allowed values, with the unit (``integer``:
         the value is an integer)."""
         if self.choices is not None:
-            return "one of " + ", ".join(repr(c) for c in self.choices)
+            words = self.choices if self.notation == "interval" else [repr(c) for c in self.choices]
+            return "one of " + ", ".join(words)
         if self.notation == "interval":
             return self._interval(integer)
         parts = []
