@@ -140,13 +140,13 @@ def _outside(cls: type) -> list[tuple[str, object]]:
     import dataclasses
     import typing
 
-    from towcable_fmu.schema import _unwrap_optional
-
     out = []
     hints = typing.get_type_hints(cls)
     for f in dataclasses.fields(cls):
         sp = f.metadata.get("spec")
-        tp = _unwrap_optional(hints[f.name])[0]
+        tp = hints[f.name]
+        if type(None) in typing.get_args(tp) and len(typing.get_args(tp)) == 2:  # X | None
+            tp = next(a for a in typing.get_args(tp) if a is not type(None))
         if dataclasses.is_dataclass(tp):
             out += [(f"{f.name}.{name}", value) for name, value in _outside(tp)]
         elif sp is not None and tp in (int, float):

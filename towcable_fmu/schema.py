@@ -42,7 +42,7 @@ TAG = "type"
 
 @dataclasses.dataclass(frozen=True)
 class Spec:
-    """Metadata of one scene key.
+    """Metadata of one configuration key.
 
     Parameters
     ----------
@@ -101,20 +101,19 @@ class Spec:
 
     def _interval(self, integer: bool) -> str:
         """The range in interval notation (``a finite number in [0, 20] m``)."""
-        lo, hi = (self.gt, True) if self.gt is not None else (self.ge, False), \
-            (self.lt, True) if self.lt is not None else (self.le, False)
-        unit = f" {self.unit}" if self.unit and self.unit != "-" else ""
+        unit = f" {self.unit}" if self.unit and self.unit != "-" and not integer else ""
         if self.length is not None:
             return f"a list of {self.length} finite numbers" + (f" [{self.unit}]" if unit else "")
         what = "an integer" if integer else "a finite number"
-        if lo[0] is not None and hi[0] is not None:
-            return (f"{what} in {'(' if lo[1] else '['}{lo[0]:g}, {hi[0]:g}{')' if hi[1] else ']'}"
-                    + ("" if integer else unit))
-        if lo[0] is not None:
-            return f"{what} {'>' if lo[1] else '>='} {lo[0]:g}" + ("" if integer else unit)
-        if hi[0] is not None:
-            return f"{what} {'<' if hi[1] else '<='} {hi[0]:g}" + ("" if integer else unit)
-        return what + (f" [{self.unit}]" if unit and not integer else "")
+        lo, lo_open = (self.gt, True) if self.gt is not None else (self.ge, False)
+        hi, hi_open = (self.lt, True) if self.lt is not None else (self.le, False)
+        if lo is not None and hi is not None:
+            return f"{what} in {'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}{unit}"
+        if lo is not None:
+            return f"{what} {'>' if lo_open else '>='} {lo:g}{unit}"
+        if hi is not None:
+            return f"{what} {'<' if hi_open else '<='} {hi:g}{unit}"
+        return what + (f" [{self.unit}]" if unit else "")
 
 
 def spec(default: Any = REQUIRED, **kwargs: Any) -> Any:
