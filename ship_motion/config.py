@@ -64,7 +64,7 @@ motion_spec = partial(spec, notation="interval")
 # ------------------------------------------------------------------ declarations
 @dataclass(frozen=True)
 class StillShipTable:
-    """the ship is still (no other keys)."""
+    """The ship is still (no other keys)."""
 
     KIND: ClassVar[str] = "none"
 
@@ -130,7 +130,7 @@ def _dof(name: str, axis: str) -> object:
 
 @dataclass(frozen=True)
 class RegularTable:
-    """regular oscillations, each degree of freedom its own sine (RegularMotion)."""
+    """Regular oscillations, each degree of freedom its own sine (RegularMotion)."""
 
     KIND: ClassVar[str] = "regular"
 
@@ -146,7 +146,7 @@ class RegularTable:
 
 @dataclass(frozen=True)
 class TimeSeriesTable:
-    """a recorded motion, interpolated by a quintic spline, no extrapolation (TimeSeriesMotion)."""
+    """A recorded motion, interpolated by a quintic spline, no extrapolation (TimeSeriesMotion)."""
 
     KIND: ClassVar[str] = "time_series"
 
@@ -209,7 +209,7 @@ class RaoConfig:
 
 @dataclass(frozen=True)
 class IrregularTable:
-    """an irregular sea: JONSWAP spectrum through the ship's RAOs (IrregularSea)."""
+    """An irregular sea: JONSWAP spectrum through the ship's RAOs (IrregularSea)."""
 
     KIND: ClassVar[str] = "irregular"
 
@@ -257,7 +257,7 @@ class IrregularTable:
 
 @dataclass(frozen=True)
 class ManoeuvreTable:
-    """a ship under way: speed ramp and turn (Manoeuvre), with waves if given (SuperposedMotion)."""
+    """A ship under way: speed ramp and turn (Manoeuvre), with waves if given (SuperposedMotion)."""
 
     KIND: ClassVar[str] = "manoeuvre"
 

@@ -445,12 +445,13 @@ def describe_variants(options: Mapping[str, type], key: str) -> dict[str, list[d
     -------
     dict
         ``type`` value -> rows: the ``type`` key itself (its meaning: the first line of the
-        variant's docstring), then the variant's keys.
+        variant's docstring, first letter in lower case), then the variant's keys.
     """
     allowed = "one of " + ", ".join(repr(k) for k in options)
     out = {}
     for kind, cls in options.items():
         doc = (cls.__doc__ or "").strip().splitlines()[0].rstrip(".")
+        doc = doc[:1].lower() + doc[1:]
         out[kind] = [{"key": _join(key, TAG), "type": "string", "unit": "", "default": "required",
                       "allowed": allowed, "doc": f"{kind!r}: {doc}"}] + describe(cls, key)
     return out
