@@ -25,6 +25,20 @@ class Environment:
 
 
 @dataclasses.dataclass(frozen=True)
+class Rope:
+    """What the rope is made of, for its life (towcable_fmu/rope_life/): the minimum breaking
+    strength and the construction, which selects the tension-tension T-N curve N R^M = K
+    of API RP 2SK (3rd ed., 2005; the curves of ISO 19901-7), R the tension range over the
+    breaking strength."""
+
+    breaking_strength: float = spec(unit="N", gt=0.0, doc="minimum breaking strength (MBS) of the rope")
+    construction: str = spec("six_strand", choices=("six_strand", "spiral_strand"),
+                             doc="six_strand: six- or multi-strand rope (API RP 2SK: M = 4.09, K = 231); "
+                                 "spiral_strand: spiral strand (M = 5.05, K = 166); the curves at a mean "
+                                 "load of 0.3 MBS")
+
+
+@dataclasses.dataclass(frozen=True)
 class Segment:
     """A run of cable with uniform properties, meshed with equal ANCF elements."""
 
@@ -68,6 +82,8 @@ class Segment:
                                        "mass), e.g. the parts of a wire in the lee of a structure (appendix A: "
                                        "wind on the span between the sheaves only)")
     name: str = spec("", doc="label used in plots and messages")
+    rope: Rope | None = spec(None, doc="rope data for its life: breaking strength and construction (absent: the "
+                                       "segment has no rope life)")
 
     def cable_difference(self, other: "Segment") -> str | None:
         """The first property of the cable itself (not of its loads) in which this segment
