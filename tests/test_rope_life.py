@@ -118,3 +118,92 @@ def test_mpm_of_a_narrow_band_gaussian_process_is_the_rayleigh_value():
     rayleigh = 4.0e4 + sigma * math.sqrt(2.0 * math.log(f0 * storm))
     assert fit.shape == pytest.approx(2.0, rel=0.05)
     assert fit.mpm == pytest.approx(rayleigh, rel=0.01)
+
+
+# ---------------------------------------------------------------- bending over sheave and drum
+from towcable_fmu.rope_life import bending  # noqa: E402
+from towcable_fmu.scene import load_scene  # noqa: E402
+
+
+def test_common_tangent_touches_both_circles():
+    c1, r1, c2, r2 = np.array([-28.8, 3.1]), 0.305, np.array([-36.8, 3.7]), 0.255
+    n, length = bending.common_tangent(c1, r1, c2, r2)
+    p1, p2 = c1 + r1 * n, c2 + r2 * n
+    assert np.hypot(*n) == pytest.approx(1.0)
+    assert float(n @ (p2 - p1)) == pytest.approx(0.0, abs=1e-12)         # tangent at both points
+    assert length == pytest.approx(np.hypot(*(p2 - p1)))
+    assert length == pytest.approx(math.sqrt(float((c2 - c1) @ (c2 - c1)) - (r1 - r2) ** 2))
+    assert n[1] > 0.99                                                    # over the tops, towards -x
+    # equal radii side by side: the top line, as long as the centres are apart
+    n, length = bending.common_tangent(np.array([0.0, 0.0]), 1.0, np.array([-5.0, 0.0]), 1.0)
+    assert n == pytest.approx([0.0, 1.0]) and length == pytest.approx(5.0)
+
+
+def _sine_payout(amplitude: float, period: float, periods: int, per_period: int = 400):
+    t = np.linspace(0.0, periods * period, periods * per_period + 1)
+    return t, amplitude * np.sin(2.0 * np.pi * t / period)
+
+
+def _expected(x, centre, amplitude, periods):
+    """Closed form: a point within the amplitude of a place it oscillates about is crossed
+    twice a period (half a cycle each); nothing else is."""
+    return np.where(np.abs(x - centre) < amplitude, 2.0 * periods, 0.0)
+
+
+@pytest.mark.parametrize("name", ["full_scale", "full_scale_deploy"])
+def test_sinusoidal_payout_bends_the_points_within_its_amplitude(name):
+    scene = load_scene(name)
+    path = bending.rope_path(scene)
+    amplitude, period, periods, wrap = 0.8, 10.0, 5, 1.9
+    t, payout = _sine_payout(amplitude, period, periods)
+    series = {"contact.wrap_angle": np.full(t.size, wrap),
+              "tension.winch": np.full(t.size, 4.0e3), "tension.sheave": np.full(t.size, 4.1e3)}
+    if scene.cable.top.type == "winch":
+        length = scene.cable.length
+        series["winch.phi"] = scene.winch.phi_nom - payout / path.drum_radius
+        drum0 = length - path.drum_radius * (scene.winch.phi_nom - path.departure_angle)
+    else:
+        length, deployed0 = 200.0, 150.0
+        series["winch.deployed"] = deployed0 + payout
+        drum0 = deployed0 - path.drum_radius * ((path.spool_angle - path.departure_angle) % (2 * np.pi))
+    on0 = drum0 - path.span
+    off0 = on0 - path.sheave_radius * wrap
+    result = bending.bending_cycles(path, length, series, spacing=0.01)
+    x = result.x
+    clear = np.ones(x.size, bool)          # leave out points within round-off of an edge
+    for centre in (drum0, on0, off0):
+        clear &= np.abs(np.abs(x - centre) - amplitude) > 1e-6
+    np.testing.assert_array_equal(result.drum[clear], 0.5 * _expected(x, drum0, amplitude, periods)[clear])
+    sheave = 0.5 * (_expected(x, on0, amplitude, periods) + _expected(x, off0, amplitude, periods))
+    np.testing.assert_array_equal(result.sheave[clear], sheave[clear])
+    # the amplitude exceeds half the sheave arc (0.26 m x 1.9): some points pass over it both ways
+    assert result.sheave.max() == 2 * periods and np.count_nonzero(result.sheave) > 100
+    assert np.nanmax(result.max_tension) == pytest.approx(4.1e3)
+
+
+def test_a_point_paid_out_past_the_sheave_and_hauled_back_makes_exactly_those_passes():
+    scene = load_scene("full_scale_deploy")
+    path = bending.rope_path(scene)
+    # the scene's own payout program: veer 300 m, hold, haul the 300 m back
+    t = np.arange(0.0, 700.0, 0.05)
+    payout = np.interp(t, scene.winch.program_times, scene.winch.program_payout)
+    deployed0 = 150.0
+    series = {"winch.deployed": deployed0 + payout, "contact.wrap_angle": np.full(t.size, 1.9),
+              "tension.winch": np.full(t.size, 4.0e3), "tension.sheave": np.full(t.size, 4.0e3)}
+    result = bending.bending_cycles(path, deployed0 + 300.0, series, spacing=0.05)
+    drum0 = deployed0 - path.drum_radius * ((path.spool_angle - path.departure_angle) % (2 * np.pi))
+    off0 = drum0 - path.span - path.sheave_radius * 1.9
+    x = result.x
+    # points between the sheave's far side at the start and the drum at the end: out over the
+    # sheave and off the drum once, back over the sheave and onto the drum once
+    middle = (x > drum0 + 0.01) & (x < off0 + 300.0 - 0.01)
+    assert np.all(result.sheave[middle] == 2.0) and np.all(result.drum[middle] == 1.0)
+    # points that were in the water at the start never reach the sheave; points still on the
+    # drum at the end of the veer never leave it
+    assert np.all(result.sheave[x < off0 - 0.01] == 0.0) and np.all(result.drum[x < drum0 - 0.01] == 0.0)
+    assert np.all(result.sheave[x > drum0 + 300.0 + 0.01] == 0.0)
+
+
+def test_bending_needs_a_winch_and_a_sheave():
+    with pytest.raises(ValueError, match="winch"):
+        bending.rope_path(load_scene("full_scale_pinned"))
