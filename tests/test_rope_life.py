@@ -207,3 +207,67 @@ def test_a_point_paid_out_past_the_sheave_and_hauled_back_makes_exactly_those_pa
 def test_bending_needs_a_winch_and_a_sheave():
     with pytest.raises(ValueError, match="winch"):
         bending.rope_path(load_scene("full_scale_pinned"))
+
+
+# ---------------------------------------------------------------- assessment, report and command line
+from towcable_fmu.cli import main  # noqa: E402
+from towcable_fmu.rope_life.assessment import assess, scene_rope  # noqa: E402
+from towcable_fmu.run_io import read_csv, write_csv  # noqa: E402
+from towcable_fmu.scene import load_scene as _load  # noqa: E402
+
+
+def _winch_run(seed: int, duration: float = 600.0, dt: float = 0.1) -> dict:
+    """A synthetic run of full_scale: sheave tension a sine of 8 s (range 2 kN) plus a seeded
+    random sea-like part, the winch rotating by a sine of 0.5 m payout amplitude."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, duration + 0.5 * dt, dt)
+    noise = sum(a * np.sin(2 * np.pi * f * t + p) for a, f, p in
+                zip(rng.rayleigh(50.0, 20), rng.uniform(0.08, 0.12, 20), rng.uniform(0, 6.3, 20)))
+    tension = 4.0e3 - 1.0e3 * np.cos(2 * np.pi * t / 8.0)
+    scene = _load("full_scale")
+    return {"time": t, "tension.sheave": tension + noise, "tension.winch": tension, "contact.wrap_angle": 0.33 + 0 * t,
+            "winch.phi": scene.winch.phi_nom - 0.5 / 0.305 * np.sin(2 * np.pi * t / 20.0)}
+
+
+def test_fatigue_command_writes_the_report(tmp_path):
+    run = _winch_run(0)
+    run["tension.sheave"] = run["tension.winch"]                   # the pure sine: n / N in closed form
+    write_csv(tmp_path / "run.csv", run)
+    assert main(["fatigue", str(tmp_path / "run.csv"), "--scene", "full_scale", "--output", str(tmp_path / "out")]) == 0
+    names = sorted(p.name for p in (tmp_path / "out").iterdir())
+    assert names == ["bending.png", "rainflow.png", "report.md"]
+    text = (tmp_path / "out" / "report.md").read_text(encoding="utf-8")
+    closed = 75 * (2.0e3 / 69800.0) ** 4.09 / 231.0                 # 75 periods of 8 s in 600 s
+    assert f"{closed:.4g}" in text and "API RP 2SK" in text and "ASTM E1049" in text
+    # the payout's 0.5 m amplitude moves the rope 1 m over each bending place: 1 m bends on
+    # the drum, a bit more than 1 m (plus the arc, 0.255 m x 0.33) over the sheave
+    result = assess(_load("full_scale"), [("run", read_csv(tmp_path / "run.csv"))])
+    bent = result.runs[0].bending
+    assert np.count_nonzero(bent.drum) * 0.01 == pytest.approx(1.0, abs=0.02)
+    assert np.count_nonzero(bent.sheave) * 0.01 == pytest.approx(1.0 + 0.255 * 0.33, abs=0.02)
+    assert bent.drum.max() == 30 * 0.5 * 2  # 30 periods of 20 s, two crossings a period
+
+
+def test_fatigue_of_several_seeds_fits_their_maxima(tmp_path):
+    runs = [(f"seed{s}", _winch_run(s)) for s in range(4)]
+    result = assess(_load("full_scale"), runs, storm=3600.0)
+    maxima = np.array([r.maximum for r in result.runs])
+    assert result.gumbel_mpm is not None and result.gumbel_mpm > maxima.mean()
+    with pytest.raises(ValueError, match="different durations"):
+        assess(_load("full_scale"), runs[:2] + [("short", _winch_run(9, duration=300.0))])
+
+
+def test_rope_data_missing_or_mixed_is_an_error():
+    with pytest.raises(SceneError, match=r"cable\.segments\[\]\.rope"):
+        scene_rope(_load("hanging_cable"))
+    mixed = _load("full_scale", [("cable.segments[1].rope.breaking_strength", 5.0e4)])
+    with pytest.raises(SceneError, match=r"cable\.segments\[1\]\.rope.*cable\.segments\[0\]\.rope"):
+        scene_rope(mixed)
+
+
+def test_fatigue_command_names_a_missing_signal(tmp_path, capsys):
+    run = _winch_run(0)
+    del run["tension.sheave"]
+    write_csv(tmp_path / "run.csv", run)
+    assert main(["fatigue", str(tmp_path / "run.csv"), "--scene", "full_scale", "--output", str(tmp_path)]) == 2
+    assert "tension.sheave" in capsys.readouterr().err

@@ -109,11 +109,14 @@ def mpm_from_peaks(time: np.ndarray, signal: np.ndarray, storm_duration: float) 
     Raises
     ------
     ValueError
-        Fewer than 10 peaks in the run.
+        Fewer than 10 peaks in the run, or peaks of one height (a periodic signal: no
+        distribution to fit).
     """
     peaks = peaks_above_mean(signal)
     if peaks.size < 10:
         raise ValueError(f"a peak fit needs at least 10 mean up-crossing periods (the run has {peaks.size})")
+    if np.ptp(peaks) <= 1e-9 * np.max(np.abs(peaks)):
+        raise ValueError(f"the {peaks.size} peaks are all {peaks[0]:g} high: a periodic signal, no distribution to fit")
     shape, _, scale = stats.weibull_min.fit(peaks, floc=0.0)
     rate = peaks.size / float(time[-1] - time[0])
     n = rate * storm_duration
