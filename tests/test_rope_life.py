@@ -271,3 +271,87 @@ def test_fatigue_command_names_a_missing_signal(tmp_path, capsys):
     write_csv(tmp_path / "run.csv", run)
     assert main(["fatigue", str(tmp_path / "run.csv"), "--scene", "full_scale", "--output", str(tmp_path)]) == 2
     assert "tension.sheave" in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------- sweep statistics and the scatter diagram
+from towcable_fmu.sweep.case import _rope  # noqa: E402
+from towcable_fmu.sweep.long_term import long_term_damage  # noqa: E402
+from towcable_fmu.sweep.spec import SpecError, spec_from_table  # noqa: E402
+from towcable_fmu.sweep.statistics import compute_statistics  # noqa: E402
+
+
+def test_damage_and_mpm_statistics_of_a_case():
+    run = _winch_run(5)
+    rope = scene_rope(_load("full_scale"))
+    stats = compute_statistics(run, ["tension.sheave.damage", "tension.sheave.mpm"], settle=100.0, rope=rope)
+    keep = run["time"] >= 100.0
+    direct = tension_fatigue.tension_damage(run["time"][keep], run["tension.sheave"][keep], 69800.0,
+                                            tn_curve("six_strand"))
+    assert stats["tension.sheave.damage"] == pytest.approx(direct.per_year, rel=1e-12)
+    assert stats["tension.sheave.mpm"] == pytest.approx(
+        extremes.mpm_from_peaks(run["time"][keep], run["tension.sheave"][keep], 3 * 3600.0).mpm)
+    assert math.isnan(compute_statistics(run, ["tension.sheave.damage"], settle=0.0)["tension.sheave.damage"])
+
+
+SCATTER = {"sweep": {"scene": "full_scale", "statistics": ["tension.sheave.damage", "tension.sheave.max"],
+                     "probabilities": [[0.1, 0.2, 0.05], [0.3, 0.25, 0.1]]},
+           "parameters": {"hs": [1.5, 3.0], "tp": [6.0, 8.0, 10.0]}}
+
+
+def test_scatter_diagram_probabilities_weight_the_cases():
+    spec = spec_from_table(SCATTER)
+    assert spec.probabilities == (0.1, 0.2, 0.05, 0.3, 0.25, 0.1)
+    cases = spec.cases()
+    assert [c.values for c in cases][1] == {"hs": 1.5, "tp": 8.0}      # first parameter slowest, as the rows
+    damage = [1e-3, 2e-3, 3e-3, 4e-3, 5e-3, 6e-3]
+    rows = [{"case_id": c.case_id, "tension.sheave.damage [1/year]": f"{d:.10g}"} for c, d in zip(cases, damage)]
+    hand = 0.1e-3 + 0.4e-3 + 0.15e-3 + 1.2e-3 + 1.25e-3 + 0.6e-3
+    assert long_term_damage(spec, rows) == {"tension.sheave.damage": pytest.approx(hand, rel=1e-12)}
+    rows[4]["tension.sheave.damage [1/year]"] = ""                      # a failed case
+    assert math.isnan(long_term_damage(spec, rows)["tension.sheave.damage"])
+
+
+@pytest.mark.parametrize("probabilities, message", [
+    ([[0.1, 0.2, 0.05], [0.3, 0.25, 0.2]], "summing to 1 (they sum to 1.1)"),
+    ([[0.1, 0.2], [0.3, 0.4]], "shape 2 x 3"),
+    ([[0.1, 0.2, -0.05], [0.3, 0.25, 0.2]], ">= 0"),
+])
+def test_bad_probabilities_are_errors_naming_key_and_value(probabilities, message):
+    doc = {**SCATTER, "sweep": {**SCATTER["sweep"], "probabilities": probabilities}}
+    with pytest.raises(SpecError) as info:
+        spec_from_table(doc)
+    assert str(info.value).startswith("sweep.probabilities") and message in str(info.value)
+
+
+def test_a_damage_statistic_needs_rope_data_and_a_case_uses_its_own():
+    with pytest.raises(SpecError) as info:
+        spec_from_table({"sweep": {"scene": "pulley_static", "statistics": ["tension.sheave.damage"]}})
+    assert "sweep.statistics[0]" in str(info.value) and "cable.segments[].rope" in str(info.value)
+    spec = spec_from_table({"sweep": {"scene": "full_scale", "statistics": ["tension.sheave.damage"]},
+                            "parameters": {"cable.segments[2].rope.breaking_strength": [5.0e4]},
+                            "fixed": {f"cable.segments[{i}].rope.breaking_strength": 5.0e4 for i in (0, 1, 3, 4)}})
+    assert _rope(spec.cases()[0]).breaking_strength == 5.0e4           # the case's, not the scene's 69.8 kN
+
+
+def test_the_rope_life_sweep_example_is_valid():
+    from towcable_fmu.sweep.spec import load_spec
+    from pathlib import Path
+
+    spec = load_spec(Path(__file__).resolve().parents[1] / "towcable_fmu" / "sweeps" / "rope_life.toml")
+    assert len(spec.cases()) == 9 and math.fsum(spec.probabilities) == pytest.approx(1.0)
+    assert spec.units["tension.sheave.damage"] == "1/year"
+
+
+def test_a_sweep_case_computes_its_damage_from_its_own_run():
+    from towcable_fmu.sweep.case import run_case, simulate
+
+    spec = spec_from_table({"sweep": {"scene": "full_scale", "duration": 12.0, "settle": 2.0,
+                                      "statistics": ["tension.sheave.damage"]}})
+    case = spec.cases()[0]
+    result = run_case(case)
+    assert result.status == "ok", result.error
+    series = simulate(case)
+    keep = series["time"] >= 2.0
+    direct = tension_fatigue.tension_damage(series["time"][keep], series["tension.sheave"][keep], 69800.0,
+                                            tn_curve("six_strand")).per_year
+    assert result.statistics["tension.sheave.damage"] == pytest.approx(direct, rel=1e-9) and direct > 0.0

@@ -11,11 +11,9 @@ import numpy as np
 from ..errors import SceneError
 from ..scene.model import Rope, Scene
 from . import bending, extremes
+from .extremes import STORM
 from .rope_data import TNCurve, tn_curve
 from .tension_fatigue import TensionDamage, tension_damage
-
-#: the storm duration of a most probable maximum unless given [s] (3 hours)
-STORM = 3.0 * 3600.0
 
 
 def scene_rope(scene: Scene) -> Rope:

@@ -23,6 +23,9 @@ from typing import NamedTuple
 import numpy as np
 from scipy import stats
 
+#: the storm duration of a most probable maximum unless given [s] (3 hours)
+STORM = 3.0 * 3600.0
+
 
 class Gumbel(NamedTuple):
     """A Gumbel (largest extreme value) distribution."""
