@@ -355,3 +355,13 @@ def test_a_sweep_case_computes_its_damage_from_its_own_run():
     direct = tension_fatigue.tension_damage(series["time"][keep], series["tension.sheave"][keep], 69800.0,
                                             tn_curve("six_strand")).per_year
     assert result.statistics["tension.sheave.damage"] == pytest.approx(direct, rel=1e-9) and direct > 0.0
+
+
+def test_a_rope_end_run_off_the_drum_and_a_bad_csv_are_errors(tmp_path):
+    path = bending.rope_path(_load("full_scale"))
+    series = {"winch.phi": np.array([3.8, 0.0]), "contact.wrap_angle": np.array([0.3, 0.3])}
+    with pytest.raises(ValueError, match="left the drum"):
+        bending.bend_places(path, 460.0, series)
+    (tmp_path / "bad.csv").write_text("time,tension.sheave\n0,1\n0.05,abc\n", encoding="utf-8")
+    with pytest.raises(ValueError, match=r"row 3, column 'tension.sheave': 'abc'"):
+        read_csv(tmp_path / "bad.csv")
