@@ -10,6 +10,7 @@ import pytest
 from towcable_fmu.errors import SceneError
 from towcable_fmu.rope_life import extremes, tension_fatigue
 from towcable_fmu.rope_life.rope_data import TN_CURVES, cycles_to_failure, intercept_at_mean_load, tn_curve
+from towcable_fmu.rope_life.rope_data import bending_cycles_to_discard as rope_data_bending
 from towcable_fmu.scene.model import Rope
 from towcable_fmu.scene.schema import parse
 
@@ -365,3 +366,51 @@ def test_a_rope_end_run_off_the_drum_and_a_bad_csv_are_errors(tmp_path):
     (tmp_path / "bad.csv").write_text("time,tension.sheave\n0,1\n0.05,abc\n", encoding="utf-8")
     with pytest.raises(ValueError, match=r"row 3, column 'tension.sheave': 'abc'"):
         read_csv(tmp_path / "bad.csv")
+
+
+# ---------------------------------------------------------------- bending damage
+def test_bending_endurance_goes_together():
+    with pytest.raises(SceneError) as info:
+        parse(Rope, {"breaking_strength": 7e4, "bending_cycles": 1e6}, "cable.segments[0].rope")
+    assert "cable.segments[0].rope.bending_tension" in str(info.value) and "go together" in str(info.value)
+
+
+def test_bending_damage_along_the_rope_is_the_miner_sum_of_its_passes():
+    scene = _load("full_scale")
+    path = bending.rope_path(scene)
+    n0, s0, p = 2.0e5, 4.0e3, 3.5
+    # 10 periods of a 0.8 m sinusoidal payout: 5 at 4 kN, then 5 at 6 kN
+    t, payout = _sine_payout(0.8, 10.0, 10)
+    tension = np.where(t <= 50.0, 4.0e3, 6.0e3)
+    series = {"winch.phi": scene.winch.phi_nom - payout / path.drum_radius, "contact.wrap_angle": 0 * t + 0.33,
+              "tension.winch": tension, "tension.sheave": tension}
+    endurance = lambda s: rope_data_bending(s, n0, s0, p)  # noqa: E731
+    result = bending.bending_cycles(path, scene.cable.length, series, endurance=endurance)
+    # leave out the points the places cross in the one step in which the tension changes (at
+    # t = 50 s the payout passes zero: within 0.8 m x sin(2 pi 0.025 / 10) = 1.3 cm of the
+    # places' mid positions); their crossing counts at the step's mean tension
+    places = bending.bend_places(path, scene.cable.length, series)
+    away = np.all([np.abs(result.x - p0[0]) > 0.02 for p0 in places.values()], axis=0)
+    cycles = np.where(away, result.sheave + result.drum, -1.0)
+    full = cycles == 20.0                                 # points crossing two places: 10 cycles at each
+    # Feyrer's collective (eq. 3.93a): Z cycles with shares u_i at k_i = S_i / S_0 are worth
+    # Z sum u_i k_i^p cycles at S_0: here 10 cycles, half at k = 1, half at k = 1.5
+    collective = 10 * (0.5 * 1.0 + 0.5 * 1.5 ** p) / n0
+    one_place = away & ((result.sheave == 10.0) & (result.drum == 0.0) | (result.sheave == 0.0) & (result.drum == 10.0))
+    assert np.count_nonzero(one_place) > 50
+    np.testing.assert_allclose(result.damage[one_place], collective, rtol=1e-12)
+    np.testing.assert_allclose(result.damage[full], 2 * collective, rtol=1e-12)
+    assert np.all(result.damage[cycles == 0] == 0.0)
+
+
+def test_report_gives_bending_damage_with_an_endurance(tmp_path):
+    run = _winch_run(0)
+    write_csv(tmp_path / "run.csv", run)
+    sets = []
+    for i in range(5):
+        sets += ["--set", f"cable.segments[{i}].rope={{ breaking_strength = 69800.0, bending_cycles = 1e6, "
+                          f"bending_tension = 4000.0, bending_exponent = 3.0 }}"]
+    assert main(["fatigue", str(tmp_path / "run.csv"), "--scene", "full_scale", "--output", str(tmp_path / "o")]
+                + sets) == 0
+    text = (tmp_path / "o" / "report.md").read_text(encoding="utf-8")
+    assert "its bending damage per year" in text and "Feyrer" in text

@@ -12,8 +12,8 @@ from ..errors import SceneError
 from ..scene.model import Rope, Scene
 from . import bending, extremes
 from .extremes import STORM
-from .rope_data import TNCurve, tn_curve
-from .tension_fatigue import TensionDamage, tension_damage
+from .rope_data import TNCurve, bending_cycles_to_discard, tn_curve
+from .tension_fatigue import YEAR, TensionDamage, tension_damage
 
 
 def scene_rope(scene: Scene) -> Rope:
@@ -72,6 +72,24 @@ class Assessment(NamedTuple):
         drum = np.mean([b.drum[:size] * 3600.0 / d for b, d in found], axis=0)
         return found[0][0].x[:size], sheave, drum
 
+    def bending_damage_per_year(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """Material points x [m] and the mean bending damage per year there over the runs
+        [1/year] (None: no endurance given or no bending counted)."""
+        found = [(r.bending, r.tension.duration) for r in self.runs
+                 if r.bending is not None and r.bending.damage is not None]
+        if not found:
+            return None
+        size = min(b.x.size for b, _ in found)
+        return found[0][0].x[:size], np.mean([b.damage[:size] * YEAR / d for b, d in found], axis=0)
+
+
+def _endurance(rope: Rope):
+    """The rope's bending cycles to discard N(S) [-] of tension S [N] (None: not given)."""
+    if rope.bending_cycles is None:
+        return None
+    return lambda tension: bending_cycles_to_discard(tension, rope.bending_cycles, rope.bending_tension,
+                                                     rope.bending_exponent)
+
 
 def _window(series: Mapping[str, np.ndarray], settle: float) -> dict[str, np.ndarray]:
     keep = np.asarray(series["time"]) >= settle
@@ -128,7 +146,8 @@ def assess_run(scene: Scene, series: Mapping[str, np.ndarray], label: str, signa
         missing = [n for n in need if n not in s]
         if missing:
             raise ValueError(f"{label}: the bending count needs the outputs {', '.join(missing)}")
-        counted = bending.bending_cycles(bending.rope_path(scene), _rope_length(scene, s), s)
+        counted = bending.bending_cycles(bending.rope_path(scene), _rope_length(scene, s), s,
+                                         endurance=_endurance(rope))
     return RunLife(label, damage, peaks, float(np.max(s[signal])), counted)
 
 

@@ -29,7 +29,7 @@ strain T/EA times the length from the top end (for the full-scale scenes 6e-4 x 
 
 from __future__ import annotations
 
-from typing import Mapping, NamedTuple
+from typing import Callable, Mapping, NamedTuple
 
 import numpy as np
 
@@ -180,10 +180,12 @@ class BendingCycles(NamedTuple):
     drum: np.ndarray             #: bending cycles onto and off the drum (a wrap = 0.5) [-]
     sheave_tension: np.ndarray   #: mean tension at the point's sheave crossings (NaN: none) [N]
     max_tension: np.ndarray      #: largest tension at any of the point's crossings (NaN: none) [N]
+    damage: np.ndarray | None    #: Miner sum of the point's half cycles, 1/2 / N(S) each (None: no endurance) [-]
 
 
 def bending_cycles(path: RopePath, length: float, series: Mapping[str, np.ndarray],
-                   spacing: float = 0.01) -> BendingCycles:
+                   spacing: float = 0.01,
+                   endurance: Callable[[np.ndarray], np.ndarray] | None = None) -> BendingCycles:
     """Bending cycles of every material point over a run, with the tension at its passages.
 
     Parameters
@@ -197,6 +199,9 @@ def bending_cycles(path: RopePath, length: float, series: Mapping[str, np.ndarra
         where the rope touches the sheave) and ``tension.sheave`` (where it leaves) [N].
     spacing
         Distance between the material points [m].
+    endurance
+        Bending cycles to discard N(S) at tensions S [N] (None: no damage), e.g. from
+        :func:`~towcable_fmu.rope_life.rope_data.bending_cycles_to_discard`.
     """
     places = bend_places(path, length, series)
     x = np.arange(0.0, length + 0.5 * spacing, spacing)
@@ -204,16 +209,21 @@ def bending_cycles(path: RopePath, length: float, series: Mapping[str, np.ndarra
     t_sheave = np.asarray(series["tension.sheave"], dtype=float)
     step = {"drum": t_winch, "sheave_on": t_winch, "sheave_off": t_sheave}
     count, tension_sum, largest = {}, {}, np.full(x.size, np.nan)
+    damage = None if endurance is None else np.zeros(x.size)
     for name, place in places.items():
         at_step = 0.5 * (step[name][:-1] + step[name][1:])
         count[name] = half_cycles(x, place, None)
         tension_sum[name] = half_cycles(x, place, at_step)
         largest = np.fmax(largest, _largest_crossing_tension(x, place, at_step))
+        if damage is not None:
+            damage += half_cycles(x, place, 0.5 / endurance(at_step))
     sheave_crossings = count["sheave_on"] + count["sheave_off"]
+    if damage is not None:  # a point never crossed has none (not the running sum's round-off)
+        damage[sheave_crossings + count["drum"] == 0] = 0.0
     with np.errstate(invalid="ignore", divide="ignore"):
         mean_sheave = np.where(sheave_crossings > 0, (tension_sum["sheave_on"] + tension_sum["sheave_off"])
                                / sheave_crossings, np.nan)
-    return BendingCycles(x, 0.5 * sheave_crossings, 0.5 * count["drum"], mean_sheave, largest)
+    return BendingCycles(x, 0.5 * sheave_crossings, 0.5 * count["drum"], mean_sheave, largest, damage)
 
 
 def _largest_crossing_tension(grid: np.ndarray, place: np.ndarray, tension: np.ndarray) -> np.ndarray:

@@ -14,8 +14,10 @@ import numpy as np  # noqa: E402
 from .tension_fatigue import Cycles  # noqa: E402
 
 
-def plot_bending_along_rope(x: np.ndarray, sheave: np.ndarray, drum: np.ndarray, path: Path, title: str) -> Path:
-    """Bending cycles per hour along the rope, zoomed on the part that bends.
+def plot_bending_along_rope(x: np.ndarray, sheave: np.ndarray, drum: np.ndarray, path: Path, title: str,
+                            damage: np.ndarray | None = None) -> Path:
+    """Bending cycles per hour along the rope (and the bending damage per year), zoomed on
+    the part that bends.
 
     Parameters
     ----------
@@ -27,15 +29,25 @@ def plot_bending_along_rope(x: np.ndarray, sheave: np.ndarray, drum: np.ndarray,
         PNG to write.
     title
         Figure title.
+    damage
+        Bending damage per year at the points [1/year] (None: no lower panel).
     """
     bent = np.flatnonzero((sheave > 0) | (drum > 0))
-    fig, ax = plt.subplots(figsize=(8, 4))
+    if damage is None:
+        fig, ax = plt.subplots(figsize=(8, 4))
+    else:
+        fig, (ax, lower) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
+        lower.plot(x, damage, color="C3")
+        lower.set_ylabel("bending damage per year [1/year]")
+        lower.set_xlabel("material point: unstretched distance from the bottom end [m]")
+        lower.grid(True, alpha=0.3)
     ax.plot(x, sheave, label="over the sheave")
     ax.plot(x, drum, label="onto / off the drum")
     if bent.size:
         margin = max(0.5, 0.1 * (x[bent[-1]] - x[bent[0]]))
         ax.set_xlim(x[bent[0]] - margin, x[bent[-1]] + margin)
-    ax.set_xlabel("material point: unstretched distance from the bottom end [m]")
+    if damage is None:
+        ax.set_xlabel("material point: unstretched distance from the bottom end [m]")
     ax.set_ylabel("bending cycles per hour [1/h]")
     ax.set_title(title, fontsize=9)
     ax.grid(True, alpha=0.3)

@@ -61,10 +61,23 @@ def report_markdown(a: Assessment, title: str) -> str:
                   f"| its sheave bending cycles per hour [1/h] | {_g(sheave[worst])} |",
                   f"| its drum bending cycles per hour [1/h] | {_g(drum[worst])} |",
                   f"| its bending cycles per year [1/year] | {_g((sheave[worst] + drum[worst]) * 24 * 365.25)} |",
-                  f"| rope that bends [m] | {np.count_nonzero(sheave + drum) * (x[1] - x[0]):.2f} |", "",
-                  "Bending damage needs the rope's bending endurance N(S/d^2, D/d) (Feyrer's model); it is not "
-                  "computed: the counts and the tension at the passages are the input for it.", "",
-                  "![bending cycles along the rope](bending.png)", ""]
+                  f"| rope that bends [m] | {np.count_nonzero(sheave + drum) * (x[1] - x[0]):.2f} |"]
+        damage = a.bending_damage_per_year()
+        if damage is None:
+            lines += ["", "No bending damage: the rope gives no bending endurance (rope.bending_cycles, "
+                          "bending_tension, bending_exponent); the counts and the tension at the passages are its "
+                          "input.", ""]
+        else:
+            xd, per_year = damage
+            k = int(np.argmax(per_year))
+            lines += [f"| worst bending damage: point [m from the bottom end] | {xd[k]:.2f} |",
+                      f"| its bending damage per year [1/year] | {_g(per_year[k])} |",
+                      f"| its bending life [years] | {_g(life_years(float(per_year[k])))} |", "",
+                      f"Bending damage: each half cycle counts 1/(2 N(S)) at the tension S of its passage, "
+                      f"N = {a.rope.bending_cycles:g} ({a.rope.bending_tension:g} N / S)^{a.rope.bending_exponent:g} "
+                      "(the rope's endurance; Feyrer's collective method, eq. 3.93); the same endurance on the drum.",
+                      ""]
+        lines += ["![bending cycles along the rope](bending.png)", ""]
     lines += ["![rainflow histogram](rainflow.png)", ""]
     return "\n".join(lines)
 
@@ -82,7 +95,9 @@ def write_report(a: Assessment, folder: Path, title: str) -> list[Path]:
     written[0].write_text(report_markdown(a, title), encoding="utf-8")
     along = a.bending_per_hour()
     if along is not None:
-        written.append(plot_bending_along_rope(*along, folder / "bending.png", f"{title}: bending cycles"))
+        damage = a.bending_damage_per_year()
+        written.append(plot_bending_along_rope(*along, folder / "bending.png", f"{title}: bending cycles",
+                                               None if damage is None else damage[1]))
     first = a.runs[0]
     written.append(plot_rainflow_histogram(first.tension.cycles, a.rope.breaking_strength, folder / "rainflow.png",
                                            f"{title}: rainflow of {a.signal} ({first.label})"))

@@ -92,3 +92,34 @@ def cycles_to_failure(tension_range: np.ndarray | float, breaking_strength: floa
     ratio = np.abs(np.asarray(tension_range, dtype=float)) / breaking_strength
     with np.errstate(divide="ignore"):
         return curve.K * ratio ** (-curve.M)
+
+
+def bending_cycles_to_discard(tension: np.ndarray | float, cycles0: float, tension0: float,
+                              exponent: float) -> np.ndarray:
+    """Simple bending cycles to discard at a tension, N = N_0 (S_0 / S)^p.
+
+    The endurance of a rope bent over a sheave falls with its tension as a power law
+    locally (K. Feyrer, *Wire Ropes: Tension, Endurance, Reliability*, the collective
+    method, eqs. 3.93-3.93b: the working cycles at two tensions are in the ratio of the
+    tensions to the power p); N_0 at S_0 and p are the rope's (scene keys
+    ``rope.bending_cycles``, ``bending_tension``, ``bending_exponent``).
+
+    Parameters
+    ----------
+    tension
+        Tension S at the bending [N].
+    cycles0
+        N_0, bending cycles to discard at S_0 [-].
+    tension0
+        S_0 [N].
+    exponent
+        p [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        N [-]; infinite at zero tension (a slack rope is not counted as bent under load).
+    """
+    s = np.maximum(np.asarray(tension, dtype=float), 0.0)
+    with np.errstate(divide="ignore"):
+        return cycles0 * (tension0 / s) ** exponent
