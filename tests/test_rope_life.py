@@ -414,3 +414,60 @@ def test_report_gives_bending_damage_with_an_endurance(tmp_path):
                 + sets) == 0
     text = (tmp_path / "o" / "report.md").read_text(encoding="utf-8")
     assert "its bending damage per year" in text and "Feyrer" in text
+
+
+@pytest.mark.parametrize("name", ["full_scale", "full_scale_deploy"])
+def test_a_run_with_a_sinusoidal_payout_program_bends_the_closed_form_points(name):
+    """The simulation itself (ship still, no compensation) with the winch's payout program
+    A (1 - cos 2 pi t / P): each bending place moves over 2 A of rope and back every period,
+    so the points within its stroke are crossed twice a period (the winch's PD drive follows
+    the program to 0.3 mm)."""
+    from towcable_fmu.models import simulation_from
+
+    amplitude, period, periods = 0.4, 10.0, 3
+    times = np.arange(0.0, periods * period + 1e-9, 0.1)
+    program = amplitude * (1.0 - np.cos(2 * np.pi * times / period))
+    overrides = {"motion.type": "none", "compensation.algorithm": "none",
+                 "winch.program_times": [float(v) + 1.0 for v in times],
+                 "winch.program_payout": [float(v) for v in program]}
+    scene = _load(name, overrides)
+    series = simulation_from(name, overrides).run(periods * period + 6.0, interval=0.05)
+    path = bending.rope_path(scene)
+    result = assess(scene, [("run", series)]).runs[0].bending
+    # the places at zero payout, from the scene alone
+    if scene.cable.top.type == "winch":
+        drum0 = scene.cable.length - path.drum_radius * (scene.winch.phi_nom - path.departure_angle)
+    else:
+        drum0 = scene.cable.length - path.drum_radius * ((path.spool_angle - path.departure_angle) % (2 * np.pi))
+    on0 = drum0 - path.span
+    off0 = on0 - path.sheave_radius * float(np.mean(series["contact.wrap_angle"]))
+    x, stroke, margin = result.x, 2.0 * amplitude, 0.01
+    inside = {c: ((x > c) & (x < c + stroke)).astype(int) for c in (drum0, on0, off0)}
+    clear = np.all([np.abs(x - c) > margin for c in (drum0, on0, off0)]
+                   + [np.abs(x - c - stroke) > margin for c in (drum0, on0, off0)], axis=0)
+    np.testing.assert_array_equal(result.drum[clear], periods * inside[drum0][clear])
+    np.testing.assert_array_equal(result.sheave[clear], periods * (inside[on0] + inside[off0])[clear])
+    assert np.count_nonzero(result.sheave[clear] == 2 * periods) > 50   # the stroke is longer than the arc
+
+
+def test_a_deploy_run_gives_every_point_paid_past_the_sheave_and_back_exactly_those_passes():
+    """full_scale_deploy's own program (ship still): veer 300 m from the spool, hold, haul the
+    300 m back. A point that went from the drum past the sheave and came back made two passes
+    over the sheave and left and rejoined the drum once: 2 sheave cycles, 1 drum cycle; a
+    point that stayed in the water none."""
+    from towcable_fmu.models import simulation_from
+
+    overrides = {"motion.type": "none", "compensation.algorithm": "none"}
+    scene = _load("full_scale_deploy", overrides)
+    series = simulation_from("full_scale_deploy", overrides).run(700.0, interval=0.1)
+    assert series["winch.deployed"].max() - series["winch.deployed"][0] == pytest.approx(300.0, abs=0.01)
+    bent = assess(scene, [("deploy", series)]).runs[0].bending
+    path = bending.rope_path(scene)
+    drum0 = scene.cable.length - path.drum_radius * ((path.spool_angle - path.departure_angle) % (2 * np.pi))
+    off0 = drum0 - path.span - path.sheave_radius * float(np.max(series["contact.wrap_angle"]))
+    x, margin = bent.x, 0.05
+    middle = (x > drum0 + margin) & (x < off0 + 300.0 - margin)
+    assert np.count_nonzero(middle) > 28000
+    assert np.all(bent.sheave[middle] == 2.0) and np.all(bent.drum[middle] == 1.0)
+    water = x < off0 - margin
+    assert np.all(bent.sheave[water] == 0.0) and np.all(bent.drum[water] == 0.0)
