@@ -3,16 +3,28 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+from towcable_fmu.cli import main
 from towcable_fmu.errors import SceneError
-from towcable_fmu.rope_life import extremes, tension_fatigue
+from towcable_fmu.models import simulation_from
+from towcable_fmu.rope_life import bending, extremes, tension_fatigue
+from towcable_fmu.rope_life.assessment import assess, scene_rope
 from towcable_fmu.rope_life.rope_data import TN_CURVES, cycles_to_failure, intercept_at_mean_load, tn_curve
 from towcable_fmu.rope_life.rope_data import bending_cycles_to_discard as rope_data_bending
+from towcable_fmu.run_io import read_csv, write_csv
+from towcable_fmu.scene import load_scene
 from towcable_fmu.scene.model import Rope
 from towcable_fmu.scene.schema import parse
+from towcable_fmu.sweep.case import _rope, run_case, simulate
+from towcable_fmu.sweep.long_term import long_term_damage
+from towcable_fmu.sweep.spec import SpecError, load_spec, spec_from_table
+from towcable_fmu.sweep.statistics import compute_statistics
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 # ---------------------------------------------------------------- rope data
@@ -122,8 +134,6 @@ def test_mpm_of_a_narrow_band_gaussian_process_is_the_rayleigh_value():
 
 
 # ---------------------------------------------------------------- bending over sheave and drum
-from towcable_fmu.rope_life import bending  # noqa: E402
-from towcable_fmu.scene import load_scene  # noqa: E402
 
 
 def test_common_tangent_touches_both_circles():
@@ -211,10 +221,6 @@ def test_bending_needs_a_winch_and_a_sheave():
 
 
 # ---------------------------------------------------------------- assessment, report and command line
-from towcable_fmu.cli import main  # noqa: E402
-from towcable_fmu.rope_life.assessment import assess, scene_rope  # noqa: E402
-from towcable_fmu.run_io import read_csv, write_csv  # noqa: E402
-from towcable_fmu.scene import load_scene as _load  # noqa: E402
 
 
 def _winch_run(seed: int, duration: float = 600.0, dt: float = 0.1) -> dict:
@@ -225,7 +231,7 @@ def _winch_run(seed: int, duration: float = 600.0, dt: float = 0.1) -> dict:
     noise = sum(a * np.sin(2 * np.pi * f * t + p) for a, f, p in
                 zip(rng.rayleigh(50.0, 20), rng.uniform(0.08, 0.12, 20), rng.uniform(0, 6.3, 20)))
     tension = 4.0e3 - 1.0e3 * np.cos(2 * np.pi * t / 8.0)
-    scene = _load("full_scale")
+    scene = load_scene("full_scale")
     return {"time": t, "tension.sheave": tension + noise, "tension.winch": tension, "contact.wrap_angle": 0.33 + 0 * t,
             "winch.phi": scene.winch.phi_nom - 0.5 / 0.305 * np.sin(2 * np.pi * t / 20.0)}
 
@@ -242,7 +248,7 @@ def test_fatigue_command_writes_the_report(tmp_path):
     assert f"{closed:.4g}" in text and "API RP 2SK" in text and "ASTM E1049" in text
     # the payout's 0.5 m amplitude moves the rope 1 m over each bending place: 1 m bends on
     # the drum, a bit more than 1 m (plus the arc, 0.255 m x 0.33) over the sheave
-    result = assess(_load("full_scale"), [("run", read_csv(tmp_path / "run.csv"))])
+    result = assess(load_scene("full_scale"), [("run", read_csv(tmp_path / "run.csv"))])
     bent = result.runs[0].bending
     assert np.count_nonzero(bent.drum) * 0.01 == pytest.approx(1.0, abs=0.02)
     assert np.count_nonzero(bent.sheave) * 0.01 == pytest.approx(1.0 + 0.255 * 0.33, abs=0.02)
@@ -251,17 +257,17 @@ def test_fatigue_command_writes_the_report(tmp_path):
 
 def test_fatigue_of_several_seeds_fits_their_maxima(tmp_path):
     runs = [(f"seed{s}", _winch_run(s)) for s in range(4)]
-    result = assess(_load("full_scale"), runs, storm=3600.0)
+    result = assess(load_scene("full_scale"), runs, storm=3600.0)
     maxima = np.array([r.maximum for r in result.runs])
     assert result.gumbel_mpm is not None and result.gumbel_mpm > maxima.mean()
     with pytest.raises(ValueError, match="different durations"):
-        assess(_load("full_scale"), runs[:2] + [("short", _winch_run(9, duration=300.0))])
+        assess(load_scene("full_scale"), runs[:2] + [("short", _winch_run(9, duration=300.0))])
 
 
 def test_rope_data_missing_or_mixed_is_an_error():
     with pytest.raises(SceneError, match=r"cable\.segments\[\]\.rope"):
-        scene_rope(_load("hanging_cable"))
-    mixed = _load("full_scale", [("cable.segments[1].rope.breaking_strength", 5.0e4)])
+        scene_rope(load_scene("hanging_cable"))
+    mixed = load_scene("full_scale", [("cable.segments[1].rope.breaking_strength", 5.0e4)])
     with pytest.raises(SceneError, match=r"cable\.segments\[1\]\.rope.*cable\.segments\[0\]\.rope"):
         scene_rope(mixed)
 
@@ -275,15 +281,11 @@ def test_fatigue_command_names_a_missing_signal(tmp_path, capsys):
 
 
 # ---------------------------------------------------------------- sweep statistics and the scatter diagram
-from towcable_fmu.sweep.case import _rope  # noqa: E402
-from towcable_fmu.sweep.long_term import long_term_damage  # noqa: E402
-from towcable_fmu.sweep.spec import SpecError, spec_from_table  # noqa: E402
-from towcable_fmu.sweep.statistics import compute_statistics  # noqa: E402
 
 
 def test_damage_and_mpm_statistics_of_a_case():
     run = _winch_run(5)
-    rope = scene_rope(_load("full_scale"))
+    rope = scene_rope(load_scene("full_scale"))
     stats = compute_statistics(run, ["tension.sheave.damage", "tension.sheave.mpm"], settle=100.0, rope=rope)
     keep = run["time"] >= 100.0
     direct = tension_fatigue.tension_damage(run["time"][keep], run["tension.sheave"][keep], 69800.0,
@@ -335,17 +337,12 @@ def test_a_damage_statistic_needs_rope_data_and_a_case_uses_its_own():
 
 
 def test_the_rope_life_sweep_example_is_valid():
-    from towcable_fmu.sweep.spec import load_spec
-    from pathlib import Path
-
-    spec = load_spec(Path(__file__).resolve().parents[1] / "towcable_fmu" / "sweeps" / "rope_life.toml")
+    spec = load_spec(ROOT / "towcable_fmu" / "sweeps" / "rope_life.toml")
     assert len(spec.cases()) == 9 and math.fsum(spec.probabilities) == pytest.approx(1.0)
     assert spec.units["tension.sheave.damage"] == "1/year"
 
 
 def test_a_sweep_case_computes_its_damage_from_its_own_run():
-    from towcable_fmu.sweep.case import run_case, simulate
-
     spec = spec_from_table({"sweep": {"scene": "full_scale", "duration": 12.0, "settle": 2.0,
                                       "statistics": ["tension.sheave.damage"]}})
     case = spec.cases()[0]
@@ -359,7 +356,7 @@ def test_a_sweep_case_computes_its_damage_from_its_own_run():
 
 
 def test_a_rope_end_run_off_the_drum_and_a_bad_csv_are_errors(tmp_path):
-    path = bending.rope_path(_load("full_scale"))
+    path = bending.rope_path(load_scene("full_scale"))
     series = {"winch.phi": np.array([3.8, 0.0]), "contact.wrap_angle": np.array([0.3, 0.3])}
     with pytest.raises(ValueError, match="left the drum"):
         bending.bend_places(path, 460.0, series)
@@ -376,7 +373,7 @@ def test_bending_endurance_goes_together():
 
 
 def test_bending_damage_along_the_rope_is_the_miner_sum_of_its_passes():
-    scene = _load("full_scale")
+    scene = load_scene("full_scale")
     path = bending.rope_path(scene)
     n0, s0, p = 2.0e5, 4.0e3, 3.5
     # 10 periods of a 0.8 m sinusoidal payout: 5 at 4 kN, then 5 at 6 kN
@@ -422,15 +419,13 @@ def test_a_run_with_a_sinusoidal_payout_program_bends_the_closed_form_points(nam
     A (1 - cos 2 pi t / P): each bending place moves over 2 A of rope and back every period,
     so the points within its stroke are crossed twice a period (the winch's PD drive follows
     the program to 0.3 mm)."""
-    from towcable_fmu.models import simulation_from
-
     amplitude, period, periods = 0.4, 10.0, 3
     times = np.arange(0.0, periods * period + 1e-9, 0.1)
     program = amplitude * (1.0 - np.cos(2 * np.pi * times / period))
     overrides = {"motion.type": "none", "compensation.algorithm": "none",
                  "winch.program_times": [float(v) + 1.0 for v in times],
                  "winch.program_payout": [float(v) for v in program]}
-    scene = _load(name, overrides)
+    scene = load_scene(name, overrides)
     series = simulation_from(name, overrides).run(periods * period + 6.0, interval=0.05)
     path = bending.rope_path(scene)
     result = assess(scene, [("run", series)]).runs[0].bending
@@ -455,10 +450,8 @@ def test_a_deploy_run_gives_every_point_paid_past_the_sheave_and_back_exactly_th
     300 m back. A point that went from the drum past the sheave and came back made two passes
     over the sheave and left and rejoined the drum once: 2 sheave cycles, 1 drum cycle; a
     point that stayed in the water none."""
-    from towcable_fmu.models import simulation_from
-
     overrides = {"motion.type": "none", "compensation.algorithm": "none"}
-    scene = _load("full_scale_deploy", overrides)
+    scene = load_scene("full_scale_deploy", overrides)
     series = simulation_from("full_scale_deploy", overrides).run(700.0, interval=0.1)
     assert series["winch.deployed"].max() - series["winch.deployed"][0] == pytest.approx(300.0, abs=0.01)
     bent = assess(scene, [("deploy", series)]).runs[0].bending
