@@ -1,4 +1,4 @@
-"""Command line: ``towcable scenes | static | run | cosim | study-compensation | sweep | sweep-plot | docs``.
+"""Command line: ``towcable scenes | static | run | cosim | study-compensation | fatigue | sweep | sweep-plot | docs``.
 
 Output names and units follow the variable contract (``contract.toml``); every number
 printed is in SI units.
@@ -168,6 +168,24 @@ def cmd_study_compensation(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_fatigue(args: argparse.Namespace) -> int:
+    """Rope life of recorded runs: tension damage, bending along the rope, extremes."""
+    from .rope_life.assessment import assess
+    from .rope_life.report import write_report
+    from .run_io import read_csv
+
+    scene = load_scene(args.scene, _overrides(args.set))
+    try:
+        runs = [(Path(name).name, read_csv(Path(name))) for name in args.results]
+        result = assess(scene, runs, signal=args.signal, storm=args.storm, settle=args.settle)
+    except (OSError, ValueError) as exc:
+        raise TowcableError(str(exc)) from exc
+    for path in write_report(result, Path(args.output), str(args.scene)):
+        print(f"wrote {path}", file=sys.stderr)
+    print((Path(args.output) / "report.md").read_text(encoding="utf-8"))
+    return 0
+
+
 def cmd_docs(args: argparse.Namespace) -> int:
     """Write the reference documentation (scene keys, FMU variables, command line)."""
     from .docs_gen import write_reference
@@ -278,6 +296,20 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--fmus", default="fmus", help="folder of the FMUs (built there when missing or stale; default fmus/)")
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
     p.set_defaults(func=cmd_study_compensation)
+
+    p = sub.add_parser("fatigue", help="rope life of recorded runs: tension damage, bending along the rope, extremes",
+                       description="Reads the CSV of one or more runs of a scene (seeds of the same sea) and writes "
+                                   "report.md (tables with methods and sources), bending.png (bending cycles along "
+                                   "the rope) and rainflow.png into --output; prints the report.")
+    p.add_argument("results", nargs="+", help="CSV files written by 'towcable run' (or cosim.csv)")
+    p.add_argument("--scene", required=True, help="the runs' scene: built-in name or TOML file (its rope data)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene value (repeatable)")
+    p.add_argument("--signal", default="tension.sheave", help="tension output assessed [N] (default tension.sheave)")
+    p.add_argument("--storm", type=_positive, default=10800.0,
+                   help="storm duration of the most probable maximum [s] (default 10800: 3 hours)")
+    p.add_argument("--settle", type=float, default=0.0, help="start-up time left out [s] (default 0)")
+    p.add_argument("--output", default="out/fatigue", help="output folder (default out/fatigue)")
+    p.set_defaults(func=cmd_fatigue)
 
     from .sweep.cli import add_parsers as add_sweep_parsers
 

@@ -59,3 +59,31 @@ def write_csv(path: Path, series: dict) -> None:
         writer.writerow(names)
         for i in range(n):
             writer.writerow([f"{float(series[k][i]):.10g}" for k in names])
+
+
+def read_csv(path: Path) -> dict:
+    """The series of a CSV written by :func:`write_csv`: column name -> numpy array.
+
+    Raises
+    ------
+    ValueError
+        The file has no header and rows, or a cell that is not a number (named by row and column).
+    """
+    import numpy as np
+
+    with open(path, newline="", encoding="utf-8") as fh:
+        rows = list(csv.reader(fh))
+    if len(rows) < 2:
+        raise ValueError(f"{path}: no recorded samples (a header row and at least one row of numbers expected)")
+    names = rows[0]
+    try:
+        data = np.array(rows[1:], dtype=float)
+    except ValueError:
+        for i, row in enumerate(rows[1:], start=2):
+            for name, cell in zip(names, row):
+                try:
+                    float(cell)
+                except ValueError:
+                    raise ValueError(f"{path}: row {i}, column '{name}': '{cell}' is not a number") from None
+        raise ValueError(f"{path}: rows of unequal length") from None
+    return {name: data[:, j] for j, name in enumerate(names)}

@@ -25,6 +25,39 @@ class Environment:
 
 
 @dataclasses.dataclass(frozen=True)
+class Rope:
+    """What the rope is made of, for its life (towcable_fmu/rope_life/): the minimum breaking
+    strength and the construction, which selects the tension-tension T-N curve N R^M = K
+    of API RP 2SK (3rd ed., 2005; the curves of ISO 19901-7), R the tension range over the
+    breaking strength; optionally its bending endurance over the sheave."""
+
+    breaking_strength: float = spec(unit="N", gt=0.0, doc="minimum breaking strength (MBS) of the rope")
+    construction: str = spec("six_strand", choices=("six_strand", "spiral_strand"),
+                             doc="six_strand: six- or multi-strand rope (API RP 2SK: M = 4.09, K = 231); "
+                                 "spiral_strand: spiral strand (M = 5.05, K = 166); the curves at a mean "
+                                 "load of 0.3 MBS")
+    bending_cycles: float | None = spec(None, unit="-", gt=0.0,
+                                        doc="bending endurance: simple bending cycles to discard at bending_tension "
+                                            "over the scene's sheave (e.g. from Feyrer's discard model, eq. 3.55 of "
+                                            "'Wire Ropes', or the rope maker); with bending_tension and "
+                                            "bending_exponent it gives the bending damage along the rope (absent: "
+                                            "cycles counted, no damage)")
+    bending_tension: float | None = spec(None, unit="N", gt=0.0, doc="the tension S_0 of bending_cycles")
+    bending_exponent: float | None = spec(None, unit="-", gt=0.0,
+                                          doc="p of the endurance at other tensions, N = bending_cycles (S_0 / S)^p "
+                                              "(Feyrer's collective method, eq. 3.93: p = b_1 + b_3 lg(D/d) of his "
+                                              "endurance equation)")
+
+    def validate(self, key: str) -> None:
+        """The bending endurance is given whole or not at all."""
+        given = [n for n in ("bending_cycles", "bending_tension", "bending_exponent") if getattr(self, n) is not None]
+        if given and len(given) < 3:
+            missing = [n for n in ("bending_cycles", "bending_tension", "bending_exponent") if n not in given]
+            raise SceneError(f"{key}.{missing[0]}", None, "a value: bending_cycles, bending_tension and "
+                                                          "bending_exponent go together")
+
+
+@dataclasses.dataclass(frozen=True)
 class Segment:
     """A run of cable with uniform properties, meshed with equal ANCF elements."""
 
@@ -68,6 +101,8 @@ class Segment:
                                        "mass), e.g. the parts of a wire in the lee of a structure (appendix A: "
                                        "wind on the span between the sheaves only)")
     name: str = spec("", doc="label used in plots and messages")
+    rope: Rope | None = spec(None, doc="rope data for its life: breaking strength and construction (absent: the "
+                                       "segment has no rope life)")
 
     def cable_difference(self, other: "Segment") -> str | None:
         """The first property of the cable itself (not of its loads) in which this segment

@@ -19,7 +19,7 @@ from typing import Mapping
 import numpy as np
 
 from .spec import Case
-from .statistics import compute_statistics
+from .statistics import compute_statistics, statistic
 
 
 @dataclasses.dataclass
@@ -85,6 +85,16 @@ def simulate(case: Case, fmus: Mapping[str, Path] | None = None) -> dict[str, np
     return run_cosim(config, echo=False, fmus=fmus).series
 
 
+def _rope(case: Case):
+    """The case's rope data when a statistic needs it (else None)."""
+    if not any(statistic(n).needs_rope for n in case.statistics):
+        return None
+    from ..rope_life.assessment import scene_rope
+    from ..scene import load_scene
+
+    return scene_rope(load_scene(case.settings.scene, case.overrides))
+
+
 def run_case(case: Case, fmus: Mapping[str, Path] | None = None) -> CaseResult:
     """Run one case and compute its statistics (see the module docstring).
 
@@ -106,7 +116,8 @@ def run_case(case: Case, fmus: Mapping[str, Path] | None = None) -> CaseResult:
     cpu = time.process_time()
     try:
         series = simulate(case, fmus)
-        stats = compute_statistics(series, case.statistics, case.settings.settle, case.settings.fraction)
+        stats = compute_statistics(series, case.statistics, case.settings.settle, case.settings.fraction,
+                                   _rope(case))
     except Exception as exc:  # noqa: BLE001 - every failure of a case is recorded, the sweep goes on
         message = f"{type(exc).__name__}: {exc}".replace("\n", " ")
         if not _is_expected(exc):

@@ -23,6 +23,13 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     print(f"{report.table}: {report.total} cases, {report.skipped} were done before, {report.ran} run now "
           f"({report.failed} failed) in {report.wall_time:.1f} s"
           + (f", {report.cases_per_hour:.0f} cases/h" if report.ran else ""), file=sys.stderr)
+    if spec.probabilities is not None:
+        from .long_term import long_term_damage
+        from .store import read_table
+
+        for name, value in long_term_damage(spec, read_table(report.table)).items():
+            life = f"{1.0 / value:.4g} years" if value > 0 else "-"
+            print(f"long-term {name} (the cases weighted by their probabilities): {value:.4g} 1/year, life {life}")
     return 0
 
 

@@ -12,6 +12,7 @@ A sweep file has three tables::
     table = "results.csv"     # results table in that folder: .csv, or .parquet (needs pyarrow)
     series = false            # also write each case's time series (series/<case_id>.csv)
     statistics = ["tension.sheave.max", "tension.top.p99", ...]   # default: DEFAULT_STATISTICS
+    probabilities = [[0.1, 0.2], [0.3, 0.4]]   # optional: the scatter diagram, one probability per case
 
     [fixed]                   # overrides applied to every case (dotted scene keys or aliases)
     "solver.time_step" = 0.02
@@ -55,7 +56,7 @@ ALIASES: dict[str, tuple[str, ...]] = {
 
 MODES = ("scene", "cosim")
 SWEEP_KEYS = {"mode", "scene", "duration", "settle", "interval", "step", "output", "series", "statistics",
-              "fraction", "fmu_dir", "table"}
+              "fraction", "fmu_dir", "table", "probabilities"}
 #: Suffixes of the results table: CSV, or Parquet (needs pyarrow).
 TABLE_SUFFIXES = (".csv", ".parquet")
 TOP_KEYS = {"sweep", "fixed", "parameters"}
@@ -153,6 +154,9 @@ class SweepSpec:
     table
         File name of the results table in ``output``; its suffix chooses the format:
         ``.csv`` or ``.parquet``.
+    probabilities
+        Probability of each case in :meth:`cases` order (a scatter diagram), summing to 1;
+        None: not given. Long-term statistics weight the cases by them.
     """
 
     settings: RunSettings
@@ -164,6 +168,7 @@ class SweepSpec:
     series: bool
     source: Path | None = None
     table: str = "results.csv"
+    probabilities: tuple[float, ...] | None = None
 
     def cases(self) -> list[Case]:
         """Every combination of the swept values (the first parameter varies slowest)."""
@@ -275,7 +280,8 @@ def _checked_statistics(names: Any, settings: RunSettings, signals: tuple[str, .
         return tuple(n for n in DEFAULT_STATISTICS if all(s in signals for s in statistic(n).signals))
     if not isinstance(names, list) or not names:
         raise SpecError("sweep.statistics", names, "a non-empty list of statistic names")
-    allowed = ("SIGNAL.max, .min, .mean, .std or .pNN (e.g. tension.sheave.max, tension.top.p99) or one of "
+    allowed = ("SIGNAL.max, .min, .mean, .std or .pNN (e.g. tension.sheave.max, tension.top.p99), SIGNAL.damage "
+               "or .mpm (rope life, e.g. tension.sheave.damage), or one of "
                + ", ".join(DERIVED) + f", of the signals {settings.scene} has in {settings.mode} mode: "
                + ", ".join(s for s in signals if s != "time"))
     for i, name in enumerate(names):
@@ -367,9 +373,66 @@ def spec_from_table(doc: Mapping[str, Any], base_dir: Path = Path("."), source: 
     _segment_count(scene, _named(fixed, parameters))  # a segment alias needs segments
     signals, unit_of = scene_signals(settings, fixed)
     stats = _checked_statistics(sweep.get("statistics"), settings, signals)
+    _check_rope(stats, scene, fixed, {k: v[0] for k, v in parameters.items()})
     units = {n: statistic(n).unit or unit_of(statistic(n).signals[0]) for n in stats}
+    probabilities = None
+    if "probabilities" in sweep:
+        probabilities = checked_probabilities(sweep["probabilities"], [len(v) for v in parameters.values()])
     return SweepSpec(settings=settings, fixed=fixed, parameters=parameters, statistics=stats, units=units,
-                     output=Path(output), series=series, source=source, table=table_name)
+                     output=Path(output), series=series, source=source, table=table_name,
+                     probabilities=probabilities)
+
+
+def _check_rope(stats: tuple[str, ...], scene: str, fixed: Mapping[str, Any], first: Mapping[str, Any]) -> None:
+    """A rope-life statistic needs rope data in the scene (``cable.segments[].rope``), as the
+    first case (``first``: its swept values) sets it."""
+    from ..rope_life.assessment import scene_rope
+    from ..scene import load_scene
+
+    for i, name in enumerate(stats):
+        if statistic(name).needs_rope:
+            segments = _segment_count(scene, _named(fixed, first))
+            try:
+                scene_rope(load_scene(scene, expand_overrides(fixed, segments) + expand_overrides(first, segments)))
+            except SceneError as exc:
+                raise SpecError(f"sweep.statistics[{i}]", name, f"a statistic of a scene with rope data ({exc})") from None
+
+
+def checked_probabilities(raw: Any, shape: list[int]) -> tuple[float, ...]:
+    """The probabilities of a sweep's cases from ``[sweep] probabilities``.
+
+    Parameters
+    ----------
+    raw
+        Nested lists, one level per swept parameter in file order (the first the outermost),
+        e.g. a scatter diagram over hs (rows) and tp (columns); a flat list with one swept
+        parameter.
+    shape
+        Number of values of each swept parameter.
+
+    Raises
+    ------
+    SpecError
+        Not of that shape, a negative or non-finite entry, or a sum other than 1 (within 1e-6).
+    """
+    key = "sweep.probabilities"
+    where = " x ".join(str(n) for n in shape) or "1"
+
+    def flat(value: Any, level: int, at: str) -> list[float]:
+        if level == len(shape):
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
+                raise SpecError(f"{key}{at}", value, "a probability >= 0")
+            return [float(value)]
+        if not isinstance(value, list) or len(value) != shape[level]:
+            raise SpecError(f"{key}{at}", value, f"nested lists of shape {where} (one probability per case, the "
+                                                 "parameters in file order)")
+        return [p for i, v in enumerate(value) for p in flat(v, level + 1, f"{at}[{i}]")]
+
+    values = flat(raw, 0, "")
+    total = math.fsum(values)
+    if abs(total - 1.0) > 1e-6:
+        raise SpecError(key, raw, f"probabilities summing to 1 (they sum to {total:.9g})")
+    return tuple(values)
 
 
 def _table(doc: Mapping[str, Any], name: str) -> Mapping[str, Any]:
