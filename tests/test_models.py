@@ -39,7 +39,7 @@ def test_every_model_kind_keeps_the_protocol_and_its_state_round_trips_bit_ident
 
     import numpy as np
 
-    from towcable_fmu.protocol import SOLVER_STATISTICS, CableSimulation
+    from towcable_fmu.runtime.protocol import SOLVER_STATISTICS, CableSimulation
 
     sim = simulation_from(scene)
     assert isinstance(sim, CableSimulation)

@@ -1,7 +1,7 @@
 """Reference documentation generated from the code, so that it cannot drift.
 
 Three Markdown files: every scene key of every model (from the scene schemas,
-:mod:`towcable_fmu.scene.model` and :mod:`towcable_fmu.rigidlink.scene` via
+:mod:`towcable_fmu.scene.model` and :mod:`towcable_fmu.scene.rigid_link` via
 :func:`towcable_fmu.scene.schema.describe`; the ``[motion]`` and ``[compensation]``
 tables, which :mod:`ship_motion` and :mod:`controllers` validate, from
 :func:`motion_key_rows` and :func:`compensation_key_rows`, whose key sets, defaults and
@@ -304,7 +304,7 @@ def _motion_section(level: str) -> list[str]:
 
 def scene_keys_markdown() -> str:
     """Every scene key of every model: meaning, unit, default and allowed values, by table."""
-    from .rigidlink.scene import RigidLinkScene
+    from .scene.rigid_link import RigidLinkScene
     from .scene.loader import MODELS
 
     rows = describe(Scene)
@@ -313,7 +313,7 @@ def scene_keys_markdown() -> str:
              "doc": "the model: 'ancf' for the cable models of this page (cable.formulation chooses ANCF or "
                     "nodal-position elements), 'rigid_link' for the tug-and-tow model of chains of rigid links "
                     "(its keys are listed at the end)"}
-    lines = _header("Scene keys", "the scene schemas (towcable_fmu/scene/model.py, towcable_fmu/rigidlink/scene.py)"
+    lines = _header("Scene keys", "the scene schemas (towcable_fmu/scene/model.py, towcable_fmu/scene/rigid_link.py)"
                     " and the [motion] and [compensation] key lists of towcable_fmu/docs_gen.py")
     lines += ["A scene is a TOML file (see the README, section Scenes). Keys are listed by their dotted path, as "
               "`towcable ... --set KEY=VALUE` takes them; `[]` marks an array of tables (`[[cable.segments]]`, "

@@ -20,7 +20,7 @@ from ..hydro.scene_data import build_body, build_water
 from ..hydro.towbody import BodyHydro, no_body
 from ..hydro.water import WaterModel
 from ..scene.model import Scene
-from ..rigid_body import NDOF, RigidBodyModel, build_rigid_body
+from ..hydro.rigid_body import NDOF, RigidBodyModel, build_rigid_body
 
 
 class NodalModel(NamedTuple):

@@ -1,5 +1,5 @@
-"""The rigid-link model in time (the protocol of :mod:`towcable_fmu.protocol`, its
-common part in :mod:`towcable_fmu.simulation_driver`).
+"""The rigid-link model in time (the protocol of :mod:`towcable_fmu.runtime.protocol`, its
+common part in :mod:`towcable_fmu.runtime.driver`).
 
 :class:`RigidLinkSimulation` integrates with one of scipy's ODE solvers; outputs use the contract's names where
 they exist (``ship.*`` is the tug's fairlead, ``towbody.*`` the towed vessel's,
@@ -17,11 +17,11 @@ from scipy.integrate import BDF, DOP853, LSODA, RK45, Radau
 
 from .. import contract
 from ..errors import SolverError
-from ..protocol import SOLVER_STATISTICS
-from ..simulation_driver import SimulationDriver
+from ..runtime.protocol import SOLVER_STATISTICS
+from ..runtime.driver import SimulationDriver
 from .dynamics import accelerations, end_tensions, link_forces, node_kinematics
 from .initial import parabola_angles
-from .scene import RigidLinkScene, Vessel
+from ..scene.rigid_link import RigidLinkScene, Vessel
 from .statics import solve_statics
 from .thrust import thrust_at
 
@@ -59,7 +59,7 @@ class RigidLinkSimulation(SimulationDriver):
     """
 
     STATE_FIELDS = ("y", "clock", "counters")
-    #: :data:`~towcable_fmu.protocol.SOLVER_STATISTICS` without their ``solver.`` prefix.
+    #: :data:`~towcable_fmu.runtime.protocol.SOLVER_STATISTICS` without their ``solver.`` prefix.
     COUNTER_NAMES = tuple(name.removeprefix("solver.") for name in SOLVER_STATISTICS)
     NEEDS_SHIP = False
 

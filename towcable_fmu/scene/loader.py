@@ -25,7 +25,7 @@ from .schema import parse
 _PACKAGE = __package__.rpartition(".")[0]
 
 if TYPE_CHECKING:
-    from ..rigidlink.scene import RigidLinkScene
+    from .rigid_link import RigidLinkScene
 
 _INDEX = re.compile(r"^(?P<name>[^\[\]]+)\[(?P<index>\d+)\]$")
 
@@ -169,12 +169,12 @@ MODELS = ("ancf", "rigid_link")
 
 def scene_from_table(table: dict) -> Scene | RigidLinkScene:
     """Validate a parsed TOML document into a :class:`Scene` (or, with ``model =
-    "rigid_link"``, a :class:`~towcable_fmu.rigidlink.scene.RigidLinkScene`)."""
+    "rigid_link"``, a :class:`~towcable_fmu.scene.rigid_link.RigidLinkScene`)."""
     model = table.get("model", "ancf")
     if model not in MODELS:
         raise SceneError("model", model, "one of " + ", ".join(repr(m) for m in MODELS))
     if model == "rigid_link":
-        from ..rigidlink.scene import RigidLinkScene  # here: rigidlink.scene itself imports this package
+        from .rigid_link import RigidLinkScene
 
         return parse(RigidLinkScene, table, "")
     return parse(Scene, {k: v for k, v in table.items() if k != "model"}, "")

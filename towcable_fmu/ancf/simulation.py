@@ -12,29 +12,29 @@ from typing import Any, Iterable, Mapping, NamedTuple
 
 import numpy as np
 
-from . import drive as drive_poly
-from .ancf import element, measures
-from .ancf.feed import (BOUNDARY_BAND, MERGE_FACTOR, SPLIT_FACTOR, apply_feed, fed_length, feed_event,
-                        material_rates, section_boundaries)
-from .ancf.initial_layout import initial_coordinates, layout_from_scene
-from .ancf.mesh import build_mesh, build_model, held_load_forces
-from .ancf.model import TAUT_RESIDUAL, CableModel, Mesh
-from .ancf.remesh import merge_coordinates, merge_defect, merge_mesh, split_coordinates, split_mesh
-from .ancf.system import residual
+from ..runtime import drive as drive_poly
+from . import element, measures
+from .feed import (BOUNDARY_BAND, MERGE_FACTOR, SPLIT_FACTOR, apply_feed, fed_length, feed_event, material_rates,
+                   section_boundaries)
+from .initial_layout import initial_coordinates, layout_from_scene
+from .mesh import build_mesh, build_model, held_load_forces
+from .model import TAUT_RESIDUAL, CableModel, Mesh
+from .remesh import merge_coordinates, merge_defect, merge_mesh, split_coordinates, split_mesh
+from .system import residual
 from .compensation_setup import compensation_config, compensation_table
-from .ancf.forces.contact import elements
-from .contact.cable import new_summary, surface_summary
-from .contact.surfaces import WINCH
+from .forces.contact import elements
+from .forces.contact_quadrature import new_summary, surface_summary
+from ..contact.surfaces import WINCH
 from .output_kernel import OUTPUT_FIELDS, OutputLayout, OutputScene, Recording, advance_recording
-from .errors import SceneError, SolverError
-from .rigid_body import angular_kinematics, tow_point_state
-from .hydro.turbulence import TurbulenceSeries
-from .numerics import genalpha
-from .numerics.statics import solve_statics
-from .scene.model import Scene
-from .ship_input import check_ship_state, motion_source
+from ..errors import SceneError, SolverError
+from ..hydro.rigid_body import angular_kinematics, tow_point_state
+from ..hydro.turbulence import TurbulenceSeries
+from . import genalpha
+from .statics import solve_statics
+from ..scene.model import Scene
+from ..runtime.ship_input import check_ship_state, motion_source
 from .winch_program import program_setpoints
-from .simulation_driver import SimulationDriver
+from ..runtime.driver import SimulationDriver
 from .stepper import new_stepper, save_state, step_to
 
 #: Outputs of a scene with a rigid load held by the cable (``[load]``), see :meth:`Simulation._load_outputs`.
@@ -64,7 +64,7 @@ def solver_options(scene: Scene) -> genalpha.SolverOptions:
 
 class TaylorDrive(NamedTuple):
     """The drive of an FMU step: the ship state and winch set-point at the step's start,
-    extrapolated (:func:`towcable_fmu.drive.taylor_drive`, without building its table)."""
+    extrapolated (:func:`towcable_fmu.runtime.drive.taylor_drive`, without building its table)."""
 
     t0: float              #: the step's start [s]
     ship: np.ndarray       #: ship state (3, 6) at t0
@@ -72,8 +72,8 @@ class TaylorDrive(NamedTuple):
 
 
 class Simulation(SimulationDriver):
-    """One ANCF towed-cable system in time (the protocol of :mod:`towcable_fmu.protocol`,
-    its common part in :mod:`towcable_fmu.simulation_driver`).
+    """One ANCF towed-cable system in time (the protocol of :mod:`towcable_fmu.runtime.protocol`,
+    its common part in :mod:`towcable_fmu.runtime.driver`).
 
     Parameters
     ----------
@@ -138,7 +138,7 @@ class Simulation(SimulationDriver):
         #: all outputs at the state a step reached, recorded by the step's own kernel call
         #: (one call from Python per FMU step instead of two), with the state's fingerprint
         self._stepped: tuple[tuple, np.ndarray] | None = None
-        #: the Stepper of the FMU's steps (:mod:`towcable_fmu.stepper`) with what it holds
+        #: the Stepper of the FMU's steps (:mod:`towcable_fmu.ancf.stepper`) with what it holds
         self._stepper: tuple | None = None
         rigid = bool(self.model.terms.rigid_link.enabled)
         #: The outputs this scene has (names in docs/design.md), see :meth:`outputs`.
@@ -156,7 +156,7 @@ class Simulation(SimulationDriver):
         #: wake oscillators of an enabled [viv] table (None: no vortex-induced vibration)
         self.viv = None
         if scene.viv is not None and scene.viv.enabled:
-            from .viv.coupling import WakeCoupling
+            from .viv_coupling import WakeCoupling
 
             self.viv = WakeCoupling(scene.viv, self.mesh, self.model, scene.water.current.velocity, scene.water.density)
 
@@ -365,7 +365,7 @@ class Simulation(SimulationDriver):
 
     def _integrate(self, t_end: float, drive: tuple[np.ndarray, np.ndarray] | TaylorDrive) -> int:
         """genalpha.advance to t_end; with wake oscillators, one solver step at a time with the
-        staggered coupling of :mod:`towcable_fmu.viv.coupling`. Returns the solver status."""
+        staggered coupling of :mod:`towcable_fmu.ancf.viv_coupling`. Returns the solver status."""
         if self.viv is None:
             return self._step_to(t_end, drive)
         if isinstance(drive, TaylorDrive):
@@ -403,7 +403,7 @@ class Simulation(SimulationDriver):
         with the measured sheave angle (rigorous algorithms) of the current state, or the
         constant-tension winch's set-point from the tension of the current state (one
         control interval: the table's span); the scene's payout program
-        (:mod:`towcable_fmu.winch_program`); else the set-point held."""
+        (:mod:`towcable_fmu.ancf.winch_program`); else the set-point held."""
         if self._program is not None:  # (the scene has no compensation algorithm then)
             setpoints = self._program_setpoints(times)
             self._setpoint = (float(setpoints[-1, 0]), float(setpoints[-1, 1]))
@@ -701,7 +701,7 @@ class Simulation(SimulationDriver):
         return row
 
     def _output_array(self) -> np.ndarray:
-        """All fields of :data:`~towcable_fmu.output_kernel.OUTPUT_FIELDS` (NaN: not in the scene)."""
+        """All fields of :data:`~towcable_fmu.ancf.output_kernel.OUTPUT_FIELDS` (NaN: not in the scene)."""
         if self._stepped is not None and self._stepped[0] == self._fingerprint():
             return self._stepped[1]
         rows = np.empty((1, len(OUTPUT_FIELDS)))
@@ -713,7 +713,7 @@ class Simulation(SimulationDriver):
         """genalpha.advance to t_end through advance_recording, which also records all outputs
         there (kept for :meth:`_output_array`; not with wake oscillators, whose coupling
         changes the loads after the step); the solver status. A :class:`TaylorDrive` (an
-        FMU step) goes through the model's :class:`~towcable_fmu.stepper.Stepper`."""
+        FMU step) goes through the model's :class:`~towcable_fmu.ancf.stepper.Stepper`."""
         if isinstance(drive, TaylorDrive):
             return self._step_taylor(t_end, drive)
         keep = self.viv is None
@@ -729,7 +729,7 @@ class Simulation(SimulationDriver):
 
     def _step_taylor(self, t_end: float, drive: TaylorDrive) -> int:
         """:meth:`_step_to` with the one knot of an FMU step, in one compiled call
-        (:func:`towcable_fmu.stepper.step_to`) that does not unbox the model."""
+        (:func:`towcable_fmu.ancf.stepper.step_to`) that does not unbox the model."""
         while True:  # (a spool end's fed element is split or merged between steps)
             stepper, rows, _ = self._current_stepper()
             reached = step_to(stepper, t_end, drive.t0, drive.ship, drive.setpoint[0], drive.setpoint[1])
@@ -739,7 +739,7 @@ class Simulation(SimulationDriver):
         return genalpha.OK if reached == 1 else genalpha.FAILED_MIN_STEP
 
     def _current_stepper(self) -> tuple[Any, np.ndarray, genalpha.IntegratorState]:
-        """The :class:`~towcable_fmu.stepper.Stepper` of the current model, options, state,
+        """The :class:`~towcable_fmu.ancf.stepper.Stepper` of the current model, options, state,
         workspace and output scene (built again when one of them was replaced), its row
         of outputs and its saved state."""
         held = (self.model, self.options, self.state, self.workspace, self.output_scene)
@@ -895,7 +895,7 @@ class Simulation(SimulationDriver):
 
     def set_state(self, data: Mapping[str, Any]) -> None:
         """Restore a state of :meth:`get_state` (see
-        :meth:`~towcable_fmu.simulation_driver.SimulationDriver.set_state`), also one saved
+        :meth:`~towcable_fmu.runtime.driver.SimulationDriver.set_state`), also one saved
         before a spool end's fed element was split or merged: the model of its mesh is
         rebuilt first (and put back if the state is refused)."""
         kept = (self._mesh, self.model, self.state, self.workspace)

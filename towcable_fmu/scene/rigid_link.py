@@ -11,8 +11,8 @@ from __future__ import annotations
 import dataclasses
 
 from ..errors import SceneError
-from ..scene.model import Environment
-from ..scene.schema import spec
+from .model import Environment
+from .schema import spec
 
 
 @dataclasses.dataclass(frozen=True)
