@@ -21,7 +21,7 @@ from .prescribed import apply_prescribed
 from .system import iteration_matrix, residual
 from .forces import contact_quadrature as cable_contact
 from ..runtime.drive import evaluate_drive
-from ..hydro import cable as cable_hydro
+from .forces import hydro_quadrature as cable_hydro
 from ..kinematics import rotation_derivatives, rotation_matrix, ship_point_kinematics
 from . import genalpha
 from ..numerics.banded import band_lu, band_positive_pivots, band_solve
