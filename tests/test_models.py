@@ -73,7 +73,7 @@ class _Untouchable:
 
 
 @pytest.mark.parametrize("scene", ["hanging_cable", "flume", "full_scale", "pulley_static", "viv_sheave",
-                                   "snapping_cable_nodal", "sea_trial_turn_rigid"])
+                                   "snapping_cable_nodal", "sea_trial_turn_rigid", "tug_tow"])
 def test_the_scene_is_read_once_where_the_model_is_built(scene):
     """After construction every part has its own data: initialising (initial shape,
     statics, compensation, turbulence, wake oscillators), stepping and reading outputs

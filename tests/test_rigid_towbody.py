@@ -574,3 +574,19 @@ def test_ancf_rigid_state_round_trip_continues_bit_identically():
     assert first == again
     assert {"towbody.roll", "towbody.pitch", "towbody.yaw", "tension.towbody"} <= set(first)
     assert abs(first["towbody.pitch"] - saved["fields"]["q"][sim.model.terms.rigid_link.index + 4]) > 1e-4   # it moved
+
+
+@pytest.mark.parametrize("formulation", ["nodal_position", "ancf"])
+def test_set_body_motion_returns_the_outputs_of_the_new_state(formulation):
+    """Both cables answer set_body_motion alike: the outputs in the new state, the body's
+    new velocity among them."""
+    from towcable_fmu.models import simulation_for
+
+    table = _pendulum_table(0.0, 0.02, 50.0, 10.0, 0.8)
+    if formulation == "ancf":
+        table = _ancf(table)
+    sim = simulation_for(scene_from_table(table))
+    sim.initialize()
+    out = sim.set_body_motion(velocity=[0.1, 0.0, 0.0])
+    assert out == sim.outputs()
+    assert out["towbody.vx"] == pytest.approx(0.1, abs=1e-12)

@@ -189,10 +189,15 @@ class NodalSimulation(SimulationDriver):
                 "angular_momentum": rot @ (m.rigid.inertia @ w), "tow_point": q[-3:], "cable_force": -r[-3:]}
 
     def set_body_motion(self, velocity: Iterable[float] | None = None,
-                        angular_velocity: Iterable[float] | None = None) -> None:
+                        angular_velocity: Iterable[float] | None = None) -> dict[str, float]:
         """Give an initialised rigid towed body a CG velocity [m/s] (inertial) and an
         angular velocity [rad/s] (body axes), then make the accelerations consistent.
         The cable's nodes keep their velocities (the tow point follows the body).
+
+        Returns
+        -------
+        dict
+            Outputs in the new state.
 
         Raises
         ------
@@ -212,6 +217,7 @@ class NodalSimulation(SimulationDriver):
         if not accelerations(self.model, self.state.q, self.state.v, self.state.x, self.time, self.state.stats):
             raise SolverError("the state has no finite acceleration")
         self.state.acc[:] = self.state.x
+        return self.outputs()
 
     def _record(self, block: np.ndarray, rows: np.ndarray, t_land: float) -> int:
         """The integrator's own steps through ``block``, samples read from its interpolant."""
