@@ -2,32 +2,27 @@
 
 This is the physics without FMI: load a scene, initialise (statics), step, read
 outputs, get and set the complete state. The FMU slave, the command line, the tests
-and the benchmarks all drive this same object.
+and the benchmarks all drive this same object. Two parts of it live beside it: remeshing
+during a run (:mod:`.remeshing`) and what it tells of its state beyond the outputs
+(:mod:`.state_queries`).
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any, Iterable, Mapping, NamedTuple
+from typing import Any, Mapping, NamedTuple
 
 import numpy as np
 
 from ..runtime import drive as drive_poly
-from . import element, measures
-from .feed import (BOUNDARY_BAND, MERGE_FACTOR, SPLIT_FACTOR, apply_feed, fed_length, feed_event, material_rates,
-                   section_boundaries)
+from .feed import MERGE_FACTOR, SPLIT_FACTOR, apply_feed, fed_length
 from .initial_layout import initial_coordinates, layout_from_scene
 from .mesh import build_mesh, build_model, held_load_forces
-from .model import TAUT_RESIDUAL, CableModel, Mesh
-from .remesh import merge_coordinates, merge_defect, merge_mesh, split_coordinates, split_mesh
-from .system import residual
+from .model import CableModel, Mesh
 from .compensation_setup import compensation_config, compensation_table
-from .forces.contact import elements
-from .forces.contact_quadrature import new_summary, surface_summary
 from ..contact.surfaces import WINCH
 from .output_kernel import OUTPUT_FIELDS, OutputLayout, OutputScene, Recording, advance_recording
 from ..errors import SceneError, SolverError
-from ..hydro.rigid_body import angular_kinematics, tow_point_state
 from ..hydro.turbulence import TurbulenceSeries
 from . import genalpha
 from .statics import solve_statics
@@ -36,19 +31,18 @@ from ..runtime.ship_input import check_ship_state, motion_source
 from .winch_program import program_setpoints
 from ..runtime.driver import SimulationDriver
 from .stepper import new_stepper, save_state, step_to
+from .remeshing import PAYOUT as _PAYOUT, Remeshing
+from .state_queries import PROFILE_XI as _PROFILE_XI, StateQueries
 
 #: Outputs of a scene with a rigid load held by the cable (``[load]``), see :meth:`Simulation._load_outputs`.
 LOAD_OUTPUTS = ("tension.load", "load.angle", "energy.load")
 #: fewest nominal steps in a block of the run loop (one compiled call, one drive table)
 BLOCK_STEPS = 100
-#: Normalised element positions at which the tension profile is sampled.
-_PROFILE_XI = np.array([0.0, 0.5, 1.0])
 #: advance_recording's arguments to step without outputs, and to read all outputs of a state
 _NO_OUTPUTS = np.zeros(0, dtype=np.intp)
 _NO_ROWS = np.empty((1, 0))
 _ALL_OUTPUTS = np.arange(len(OUTPUT_FIELDS), dtype=np.intp)
 _NO_DRIVE = (np.zeros(1), np.zeros((1, 3, 7)))
-_PAYOUT = OUTPUT_FIELDS.index("winch.payout")
 
 
 def solver_options(scene: Scene) -> genalpha.SolverOptions:
@@ -71,7 +65,7 @@ class TaylorDrive(NamedTuple):
     setpoint: tuple[float, float]  #: phi_sp [rad], phi_sp_rate [rad/s] at t0
 
 
-class Simulation(SimulationDriver):
+class Simulation(Remeshing, StateQueries, SimulationDriver):
     """One ANCF towed-cable system in time (the protocol of :mod:`towcable_fmu.runtime.protocol`,
     its common part in :mod:`towcable_fmu.runtime.driver`).
 
@@ -450,109 +444,6 @@ class Simulation(SimulationDriver):
             self._setpoint = setpoint
         self._integrate_to(t0 + dt, TaylorDrive(t0, ship, self._setpoint))
 
-    def split_element(self, element: int, xi: float = 0.5) -> dict[str, float]:
-        """Split element ``element`` at normalised position ``xi`` in (0, 1) during a run,
-        without disturbing the cable: the new node takes the value and slope of the
-        element's cubic there (:mod:`towcable_fmu.ancf.remesh`), for the coordinates,
-        velocities, accelerations and the integrator's auxiliary accelerations. The shape,
-        the velocities and the kinetic, bending and gravity energies are unchanged; the
-        tension (the decoupled axial strain) and the loads integrated on each element's
-        grid of points (contact, drag) change by their discretisation error, now on the
-        finer elements. The fed element of a spool end gives the new node the material's
-        velocity and acceleration there (:func:`~towcable_fmu.ancf.feed.material_rates`):
-        the node is material from then on. The next step factorises its matrix afresh.
-        A state saved before the split restores across it with a spool end (its state
-        carries the mesh); otherwise :meth:`set_state` refuses it (another model).
-
-        Returns
-        -------
-        dict
-            Outputs after the split.
-
-        Raises
-        ------
-        SceneError
-            If ``element`` or ``xi`` is out of range, or the scene has wake oscillators
-            (their states belong to the elements); nothing is changed.
-        """
-        return self._split(element, xi)
-
-    def _split(self, element: int, xi: float, first_segment: int | None = None) -> dict[str, float]:
-        """:meth:`split_element`, the first piece in ``first_segment`` if given (a section
-        boundary of a spool end's cable)."""
-        old = self.mesh
-        try:
-            mesh = split_mesh(old, element, xi, first_segment)
-        except ValueError as exc:
-            raise SceneError("split_element", (element, xi), str(exc)) from None
-        st = self.state
-        material = None
-        feed = self.model.terms.feed
-        if feed.enabled and element == feed.element:
-            u, du = -feed.radius * st.phi[1], -feed.radius * st.phi[2]
-            span = slice(6 * element, 6 * element + 12)
-            material = material_rates(st.q[span], st.v[span], st.a[span], old.lengths[element], xi, u, du)
-        new = slice(6 * (element + 1), 6 * (element + 2))  # the new node's coordinates
-
-        def transfer(name: str, x: np.ndarray) -> np.ndarray:
-            y = split_coordinates(x, old, element, xi)
-            if material is not None and name != "q":  # the new node moves with the material
-                grid = split_coordinates(st.a, old, element, xi)[new]
-                y[new] = {"v": material[0], "a": material[1], "abar": y[new] + material[1] - grid}[name]
-            return y
-        return self._remesh("split_element", mesh, transfer)
-
-    def merge_elements(self, element: int) -> dict[str, float]:
-        """Merge elements ``element`` and ``element + 1`` (of one segment) into one during a
-        run: the node between them is dropped (:mod:`towcable_fmu.ancf.remesh`). Exact when
-        the two form one cubic (a split undone); otherwise the merged element misses the
-        dropped node by ``merge_defect`` (returned as ``remesh.position_defect`` [m] and
-        ``remesh.slope_defect`` [-] beside the outputs). The next step factorises afresh.
-
-        Raises
-        ------
-        SceneError
-            If there is no such pair in one segment, or the scene has wake oscillators;
-            nothing is changed.
-        """
-        return self._merge(element)
-
-    def _merge(self, element: int, across: bool = False) -> dict[str, float]:
-        """:meth:`merge_elements`; with ``across``, also two elements of different segments
-        (the merged one in the second's)."""
-        old = self.mesh
-        try:
-            mesh = merge_mesh(old, element, across)
-        except ValueError as exc:
-            raise SceneError("merge_elements", element, str(exc)) from None
-        position, slope = merge_defect(self.state.q, old, element)
-        out = self._remesh("merge_elements", mesh, lambda name, x: merge_coordinates(x, old, element))
-        return {**out, "remesh.position_defect": position, "remesh.slope_defect": slope}
-
-    def _remesh(self, key: str, mesh: Mesh, transfer) -> dict[str, float]:
-        """Move the running cable onto ``mesh``: the model rebuilt for it, every coordinate
-        array of the state through ``transfer(name, old vector) -> new vector``, the matrix
-        factorised afresh by the next step; the outputs after."""
-        self._require_initialized()
-        if self.viv is not None:
-            raise SceneError(key, "a scene with wake oscillators", "a scene without them (viv): their states belong "
-                             "to the elements")
-        st, ship = self.state, self.workspace.ship.copy()
-        model = self._model_for(mesh, float(st.phi[0]))
-        state = genalpha.new_state(model)
-        for name in ("q", "v", "a", "abar"):
-            getattr(state, name)[:] = transfer(name, getattr(st, name))
-        for name in ("phi", "clock", "stats"):
-            getattr(state, name)[:] = getattr(st, name)
-        state.jac[:] = st.jac
-        state.jac[genalpha.JAC_VALID] = 0.0  # the matrix of the old mesh: factorise afresh
-        self._use(mesh, model, state)
-        self.workspace.ship[:, :] = ship
-        apply_feed(model, state.phi)
-        residual(model, state.q, state.v, state.a, self.time, self.workspace.ship, self.workspace.r)
-        state.taut[:] = model.el_taut[TAUT_RESIDUAL]  # the taut points of the new elements
-        return self.outputs()
-
     def _model_for(self, mesh: Mesh, phi_ref: float) -> CableModel:
         """The model of ``mesh`` with this run's water; a spool end's fed element has the
         mesh's first length at the winch rotation ``phi_ref`` [rad]."""
@@ -570,114 +461,7 @@ class Simulation(SimulationDriver):
         self._snapshot_buffers = None
         self._last_outputs = {}
 
-    def _follow_feed(self) -> bool:
-        """After a step reported a feed event, remesh a spool end's fed element: split it
-        where the next section's cable came in (``BOUNDARY_BAND`` nominal lengths past a
-        section boundary: the downstream piece keeps its section, the fed element takes the
-        new one); split it when it has grown to SPLIT_FACTOR nominal lengths (one nominal
-        element downstream, the rest upstream, where the cable comes in); or merge it with
-        the next when it has shrunk to MERGE_FACTOR (with the next section's element when
-        its own section is all hauled in: the merged element takes the next section, and
-        the last piece of the fed one, at most MERGE_FACTOR of a nominal length, with it).
-        False if there is no event (the step failed).
-
-        Raises
-        ------
-        SolverError
-            If the winch hauls in the whole cable, or a section whose cable differs from the
-            gear's (it cannot pass over drum and sheave).
-        """
-        if not feed_event(self.model):
-            return False
-        feed = self.model.terms.feed
-        fed, length, nominal = feed.element, float(self.model.el_len[feed.element]), feed.length_nom
-        mesh = self.mesh
-        if length >= feed.boundary + BOUNDARY_BAND * nominal:
-            boundaries = section_boundaries(np.array([seg.length for seg in self.scene.cable.segments]),
-                                            self.scene.winch.gear_segments)
-            upper = int(np.argmin(np.abs(boundaries - (np.sum(mesh.lengths[fed + 1:]) + feed.boundary))))
-            # the piece downstream, up to the boundary, keeps its section
-            self._split(fed, (length - feed.boundary) / length, self.scene.winch.gear_segments + upper)
-        elif length >= SPLIT_FACTOR * nominal:
-            self._split(fed, (length - nominal) / length)
-        elif mesh.n_elements > fed + 1 and mesh.segment_of_element[fed + 1] == mesh.segment_of_element[fed]:
-            self._merge(fed)
-        elif mesh.n_elements > fed + 1:
-            self._check_passes_the_gear(int(mesh.segment_of_element[fed + 1]))
-            self._merge(fed, across=True)
-        else:
-            raise SolverError(f"winch.payout = {float(self._output_array()[_PAYOUT]):.6g} m at t = {self.time:.6g} s "
-                              f"hauls in the whole cable: the deployed length cannot go below "
-                              f"{float(mesh.node_arc[fed]) + MERGE_FACTOR * nominal:.6g} m (the gear and "
-                              f"{MERGE_FACTOR:g} of the last element); limit the winch's set-point")
-        return True
-
-    def _check_passes_the_gear(self, segment: int) -> None:
-        """A section hauled in passes over drum and sheave on the gear's mesh: its cable must
-        be the gear's.
-
-        Raises
-        ------
-        SolverError
-            Naming the first property that differs.
-        """
-        segments, gear = self.scene.cable.segments, self.scene.winch.gear_segments
-        name = segments[segment].cable_difference(segments[gear])
-        if name is not None:
-            raise SolverError(f"winch.payout = {float(self._output_array()[_PAYOUT]):.6g} m at t = {self.time:.6g} s "
-                              f"hauls cable.segments[{segment}] onto the drum, but its {name} = "
-                              f"{getattr(segments[segment], name)!r} differs from the gear's "
-                              f"{getattr(segments[gear], name)!r}: it cannot pass over drum and sheave on "
-                              "their mesh; limit the winch's set-point")
-
     # --------------------------------------------------------------- outputs
-    def reactions(self) -> np.ndarray:
-        """Generalised forces the prescribed coordinates exert on the cable (full vector; zero on free rows) [N]."""
-        st = self.state
-        r = np.zeros_like(st.q)
-        residual(self.model, st.q, st.v, st.a, self.time, self.workspace.ship, r)
-        r[self.model.free_dofs] = 0.0
-        return r
-
-    def node_positions(self) -> np.ndarray:
-        """Node positions [m], shape (nn, 3) (a rigid load's point is not a node)."""
-        return self._cable_coordinates(self.state.q)[:, 0, :].copy()
-
-    def _cable_coordinates(self, x: np.ndarray) -> np.ndarray:
-        """The cable's part of a coordinate vector as (nn, 2, 3): position and slope per node."""
-        return x[:6 * self.mesh.n_nodes].reshape(-1, 2, 3)
-
-    def shape(self, points_per_element: int = 8) -> tuple[np.ndarray, np.ndarray]:
-        """The cable centreline sampled within the elements (for plots and sag).
-
-        Returns
-        -------
-        arc, positions
-            Unstretched arc length from the top [m], shape (k,), and positions [m], (k, 3).
-        """
-        xi = np.linspace(0.0, 1.0, points_per_element + 1)[:-1]
-        x = self._cable_coordinates(self.state.q).reshape(-1, 6)
-        arcs, pts = [], []
-        for e, length in enumerate(self.mesh.lengths):
-            n = element.shape_functions(xi, length)
-            pts.append(n[:, [0]] * x[e, :3] + n[:, [1]] * x[e, 3:] + n[:, [2]] * x[e + 1, :3] + n[:, [3]] * x[e + 1, 3:])
-            arcs.append(self.mesh.node_arc[e] + xi * length)
-        arcs.append([self.mesh.node_arc[-1]])
-        pts.append(x[-1:, :3])
-        return np.concatenate(arcs), np.concatenate(pts)
-
-    def tension_profile(self) -> tuple[np.ndarray, np.ndarray]:
-        """Tension along the cable at element ends and mid-points.
-
-        Returns
-        -------
-        arc, tension
-            Unstretched arc length from the top [m] and tension [N], shape (3 ne,).
-        """
-        t = measures.tension_profile(self.model, self.state.q, _PROFILE_XI)
-        arc = self.mesh.node_arc[:-1, None] + self.mesh.lengths[:, None] * _PROFILE_XI[None, :]
-        return arc.ravel(), t.ravel()
-
     def outputs(self) -> dict[str, float]:
         """Named outputs at the current time (names as in docs/design.md), SI units.
 
@@ -782,95 +566,6 @@ class Simulation(SimulationDriver):
         link = load_term.k / rest * ((length**3 - rest**3) / 3.0 - rest * (length**2 - rest**2) / 2.0)
         return dict(zip(LOAD_OUTPUTS, (float(np.linalg.norm(pull)), float(np.arctan2(d[0], -d[2])),
                                        float(kinetic + link))))
-
-    def body_state(self) -> dict[str, np.ndarray]:
-        """State of a rigid towed body (as :meth:`NodalSimulation.body_state
-        <towcable_fmu.nodal.simulation.NodalSimulation.body_state>`).
-
-        Returns
-        -------
-        dict
-            ``position`` (CG) [m] and ``velocity`` [m/s] (inertial), ``attitude`` (roll,
-            pitch, yaw) [rad], ``rotation`` R (body -> inertial), ``angular_velocity``
-            [rad/s] (body axes), ``angular_momentum`` R J w [kg m^2/s] (inertial axes, about
-            the CG; J without added inertia), ``tow_point`` [m] and ``cable_force`` [N], the
-            force of the cable on the body (the force in the link from the last node to the
-            tow point), and ``link_stretch`` [m], the length of that link.
-
-        Raises
-        ------
-        ValueError
-            If the scene has no rigid towed body.
-        """
-        link, st = self.model.terms.rigid_link, self.state
-        if not link.enabled:
-            raise ValueError("the scene has no rigid towed body (towbody.model = 'rigid')")
-        i = link.index
-        p = i - 6
-        rot, _, w, _ = angular_kinematics(st.q[i:i + 6], st.v[i:i + 6], st.a[i:i + 6])
-        xt, vt, at = np.empty(3), np.empty(3), np.empty(3)
-        tow_point_state(link.body, st.q[i:i + 6], st.v[i:i + 6], st.a[i:i + 6], xt, vt, at)
-        d = st.q[p:p + 3] - xt
-        force = link.k * d + link.c * (st.v[p:p + 3] - vt)
-        return {"position": st.q[i:i + 3].copy(), "velocity": st.v[i:i + 3].copy(),
-                "attitude": st.q[i + 3:i + 6].copy(), "rotation": rot, "angular_velocity": w,
-                "angular_momentum": rot @ (link.body.inertia @ w), "tow_point": xt, "cable_force": force,
-                "link_stretch": float(np.linalg.norm(d))}
-
-    def set_body_motion(self, velocity: Iterable[float] | None = None,
-                        angular_velocity: Iterable[float] | None = None) -> dict[str, float]:
-        """Give an initialised rigid towed body a CG velocity [m/s] (inertial) and an
-        angular velocity [rad/s] (body axes), then make the accelerations consistent.
-        The cable's last node takes the new velocity of the tow point (the link is not
-        set moving); the other nodes keep theirs.
-
-        Returns
-        -------
-        dict
-            Outputs in the new state.
-
-        Raises
-        ------
-        ValueError
-            Without a rigid body, or before :meth:`initialize`.
-        SolverError
-            If the accelerations are not finite.
-        """
-        link, st = self.model.terms.rigid_link, self.state
-        if not link.enabled or not self._initialized:
-            raise ValueError("set_body_motion needs an initialised scene with a rigid towed body")
-        i = link.index
-        v = st.v.copy()
-        if velocity is not None:
-            v[i:i + 3] = np.asarray(velocity, dtype=float)
-        if angular_velocity is not None:
-            _, g, _, _ = angular_kinematics(st.q[i:i + 6], v[i:i + 6], st.a[i:i + 6])
-            v[i + 3:i + 6] = np.linalg.solve(g, np.asarray(angular_velocity, dtype=float))
-        xt, vt, at = np.empty(3), np.empty(3), np.empty(3)
-        tow_point_state(link.body, st.q[i:i + 6], v[i:i + 6], st.a[i:i + 6], xt, vt, at)
-        v[i - 6:i - 3] = vt
-        return self.set_coordinates(st.q.copy(), v)
-
-    def contact_state(self) -> dict[str, np.ndarray]:
-        """Contact at the current time: totals per surface and the force distribution.
-
-        Returns
-        -------
-        dict
-            ``force`` (2, 3) total contact force on the cable of the winch (row 0) and the
-            sheave (row 1) [N]; ``span`` (2, 2) smallest and largest angle of a touching
-            point, measured about the surface axis from the ship's +Z towards +X [rad];
-            ``ends`` (2, 4) element and position of the first and of the last touching point
-            along the cable (element -1: no contact); ``lowest`` (2,) lowest height of the cable above its seated position over
-            the upper half of each surface [m]; ``distribution`` (k, 3) rows (surface,
-            angle [rad], force per unit length [N/m]).
-        """
-        m = self.model
-        out = new_summary(4 * int(m.el_npts.sum()))
-        rows = surface_summary(m.terms.contact, elements(m), self.state.q, self.state.v,
-                               self.workspace.ship, out)
-        return {"force": out.force, "span": out.span, "ends": out.ends, "lowest": out.lowest, "energy": out.energy,
-                "distribution": out.dist[:rows]}
 
     def _counters(self) -> np.ndarray:
         return self.state.stats
