@@ -30,12 +30,16 @@ from ..scene.model import Scene
 from ..runtime.ship_input import check_ship_state, motion_source
 from .winch_program import program_setpoints
 from ..runtime.driver import SimulationDriver
+from ..runtime.tables import reject_unmodelled
+from .forces import TABLES as TERM_TABLES
 from .stepper import new_stepper, save_state, step_to
 from .remeshing import PAYOUT as _PAYOUT, Remeshing
 from .state_queries import PROFILE_XI as _PROFILE_XI, StateQueries
 
 #: Outputs of a scene with a rigid load held by the cable (``[load]``), see :meth:`Simulation._load_outputs`.
 LOAD_OUTPUTS = ("tension.load", "load.angle", "energy.load")
+#: The scene tables the ANCF cable models: its force terms' and those the simulation reads itself.
+MODELLED_TABLES = TERM_TABLES + ("water.turbulence", "compensation", "motion")
 #: fewest nominal steps in a block of the run loop (one compiled call, one drive table)
 BLOCK_STEPS = 100
 #: advance_recording's arguments to step without outputs, and to read all outputs of a state
@@ -89,6 +93,7 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         if scene.cable.formulation != "ancf":
             raise SceneError("cable.formulation", scene.cable.formulation, "'ancf' for this class (a nodal-position "
                              "cable runs in towcable_fmu.nodal.simulation.NodalSimulation)")
+        reject_unmodelled(scene, MODELLED_TABLES, "ancf")
         self._keep(scene)  # read here only: afterwards every part has its own data
         #: the element layout (a spool end's fed element at its length after the last remesh)
         self._mesh: Mesh = build_mesh(scene.cable.segments)

@@ -17,6 +17,8 @@ from ..model import CableModel, Mesh, Motion
 from .term import add_element_block
 
 NAME = "contact"
+#: The scene tables this term models (absent in a scene: the term is disabled).
+TABLES = ("winch", "sheave")
 Data = ContactModel
 
 

@@ -18,6 +18,8 @@ from .hydro_quadrature import CableHydro
 from .term import add_element_block
 
 NAME = "hydrodynamics"
+#: The scene tables this term models (absent in a scene: the term is disabled).
+TABLES = ("water",)
 Data = CableHydro
 
 

@@ -19,6 +19,8 @@ from ..model import CableModel, Mesh, Motion
 from .term import add_block
 
 NAME = "rigid_link"
+#: The scene tables this term models (absent in a scene: the term is disabled).
+TABLES = ("towbody.rigid",)
 
 #: Stiffness of the link between the cable's last node and a rigid body's tow point, as
 #: a multiple of the axial stiffness EA/L of the last element [-]. The link then stretches

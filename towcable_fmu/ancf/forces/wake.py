@@ -16,6 +16,8 @@ from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
 
 NAME = "wake"
+#: The scene tables this term models (absent in a scene: the term is disabled).
+TABLES = ("viv",)
 
 
 class Data(NamedTuple):
