@@ -26,7 +26,7 @@ from numba import njit
 
 from towcable_fmu.ancf.system import residual
 from towcable_fmu.numerics.banded import band_solve
-from towcable_fmu.output_kernel import output_values
+from towcable_fmu.ancf.output_kernel import output_values
 
 import cosim
 import snapping
@@ -70,7 +70,7 @@ def _per_call_us(loop, *args) -> float:
 def step_costs(scene: str, overrides: dict, states: tuple[float, int]) -> dict[str, float]:
     """Median per-call costs [us] of a residual, a back-solve and the outputs over states
     of a run of ``scene`` (``states``: spacing [s], count), and the run's counters."""
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     sim = Simulation.from_scene(scene, overrides)
     sim.initialize()

@@ -105,7 +105,7 @@ def timed_scene_runs(scene: str, overrides: dict, duration: float, interval: flo
     run's series and its solver statistics."""
     import numpy as np
 
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     results = []
     for _ in range(repeats):

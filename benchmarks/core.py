@@ -22,7 +22,7 @@ ELEMENTS = 70     # the scene's mesh
 
 def simulate(elements: int, time_step: float, repeats: int = 1) -> tuple[float, np.ndarray, dict]:
     """Median wall time [s] of a run (statics excluded), top tension series and statistics."""
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     overrides = {"cable.segments[0].elements": elements, "solver.time_step": time_step}
 
@@ -47,7 +47,7 @@ def kernel_costs(elements: int = ELEMENTS) -> dict[str, float]:
     """Cost of one residual, one Jacobian assembly, one banded LU and one back-solve [us]."""
     from towcable_fmu.ancf.system import iteration_matrix, residual
     from towcable_fmu.numerics.banded import band_lu, band_solve
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     sim = Simulation.from_scene("hanging_cable", {"cable.segments[0].elements": elements})
     sim.initialize()
@@ -76,7 +76,7 @@ def kernel_costs(elements: int = ELEMENTS) -> dict[str, float]:
     }
 
 
-START_CODE = ("from towcable_fmu.simulation import Simulation\n"
+START_CODE = ("from towcable_fmu.ancf.simulation import Simulation\n"
               "sim = Simulation.from_scene('hanging_cable')\n"
               "sim.initialize()\n"
               "sim.advance(0.1)\n")

@@ -37,7 +37,7 @@ def cosim(step: float) -> dict:
 
 def standalone() -> float:
     """Median simulated seconds per wall second of the Simulation alone (same scene and sea)."""
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     speeds = []
     for _ in range(REPEATS):

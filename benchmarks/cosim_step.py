@@ -162,7 +162,7 @@ def profile() -> dict[str, float]:
 def _part_costs(sim) -> dict[str, float]:
     """Per-call costs [s] at the current state of ``sim`` (compiled loops)."""
     from towcable_fmu.numerics.banded import band_lu, band_solve
-    from towcable_fmu.output_kernel import output_values
+    from towcable_fmu.ancf.output_kernel import output_values
     from towcable_fmu.ancf.system import iteration_matrix
 
     m, st, ws = sim.model, sim.state, sim.workspace
@@ -191,7 +191,7 @@ def _part_costs(sim) -> dict[str, float]:
 
 def standalone() -> dict[str, float]:
     """Simulation.run of full_scale at 0.01 s (recording every 0.1 s): model time per 0.01 s [s]."""
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     sim = Simulation.from_scene("full_scale", {"solver": {"time_step": STEP},
                                                "compensation": {"algorithm": "simplified_sheave"}})

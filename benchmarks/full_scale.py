@@ -51,7 +51,7 @@ def shipped_rows(repeats: int, quick: bool) -> list[tuple]:
     ``repeats``), steps (which must not depend on the interval) and the RMS sheave-tension
     error against the same scene with the mesh refined twice and h = 5 ms, relative to
     the reference's mean."""
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     ref_overrides = {} if quick else {f"cable.segments[{i}].elements": 2 * n for i, n in enumerate((10, 5, 40, 8, 6))}
     ref = Simulation.from_scene("full_scale", {**ref_overrides, "solver.time_step": 0.005})

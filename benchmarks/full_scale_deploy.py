@@ -47,7 +47,7 @@ def errors(series: dict, ref: dict) -> dict[str, float]:
 def cost_by_length(window: float = 20.0) -> list[tuple]:
     """The scene as shipped run in windows of ``window`` [s]: deployed length, elements and
     wall time per step in each (one run; statics excluded)."""
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     sim = Simulation.from_scene(SCENE)
     sim.initialize()

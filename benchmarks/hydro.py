@@ -15,7 +15,7 @@ from common import RESULTS, machine_header, markdown_table, per_call_us
 def point_cost() -> dict[str, float]:
     """Residual cost of the wet full-scale scene minus the same scene dry, per wet point [us]."""
     from towcable_fmu.ancf.system import residual
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     sim = Simulation.from_scene("full_scale_pinned", {"cable.segments[0].elements": 40,
                                                "cable.segments[1].elements": 20})

@@ -40,7 +40,7 @@ def profile(name: str, duration: float) -> dict:
     """Counts, wall time and the time per part [s] of a run of ``duration`` seconds."""
     from towcable_fmu.ancf.system import iteration_matrix, residual
     from towcable_fmu.numerics.banded import band_lu, band_solve
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     warm = Simulation.from_scene(name)  # loads the compiled kernels (numba cache) outside the timing
     warm.initialize()

@@ -106,7 +106,7 @@ def main(argv=None) -> int:
     parser.add_argument("--no-dask", action="store_true", help="skip the Dask cluster")
     args = parser.parse_args(argv)
 
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     start = time.perf_counter()
     Simulation.from_scene("full_scale").run(1.0)  # compile into numba's cache once, before any worker starts

@@ -27,7 +27,7 @@ def segment(length: float, elements: int, *, mu: float = 1.0, EA: float = 1e6, E
 def make_sim():
     """Build a Simulation from a scene table."""
     from towcable_fmu.scene import scene_from_table
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     def _make(table: dict) -> Simulation:
         return Simulation(scene_from_table(table))

@@ -291,7 +291,7 @@ def test_study_compares_a_constant_tension_winch(fmu_paths, tmp_path):
     to take up part of the heave: less tension variation at the sheave than no
     compensation in the same sea."""
     from towcable_fmu.analysis.compensation_study import run_study
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     result = run_study(["none", "constant_tension"], duration=40.0, step=0.01, output_dir=tmp_path, settle=10.0,
                        fmus=fmu_paths, verbose=False)

@@ -10,9 +10,9 @@ from PIL import Image
 
 from towcable_fmu.animation import surface_centres, write_animation
 from towcable_fmu.cli import main
-from towcable_fmu.frames import Frames, frame_stride, run_with_frames
+from towcable_fmu.ancf.frames import Frames, frame_stride, run_with_frames
 from towcable_fmu.kinematics import rotation_matrix
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 
 def gif_frames(path) -> tuple[int, list[int]]:

@@ -11,7 +11,7 @@ from conftest import TermPart
 from towcable_fmu.ancf.forces.contact import build_contact
 from towcable_fmu.contact.surfaces import CYLINDER, RIM, face_force, face_tangent
 from towcable_fmu.scene import load_scene
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 #: states closer than this to a kink of the force or of the indicator are not compared [m]
 #: (delta = 0, the clipped damping bracket, the switch between the terms of a minimum,
@@ -135,7 +135,7 @@ def test_iteration_matrix_contact_part_matches_central_differences_of_the_residu
 def _elements_with_a_contact_end(sim) -> list[int]:
     """Elements in which a face's active length starts or ends (its indicator changes sign
     between the element's grid points)."""
-    from towcable_fmu.contact.cable import _face_quadrature, _element_points, _touching_faces
+    from towcable_fmu.ancf.forces.contact_quadrature import _face_quadrature, _element_points, _touching_faces
     from towcable_fmu.kinematics import rotation_derivatives
 
     m = sim.model

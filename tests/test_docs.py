@@ -191,7 +191,7 @@ def test_compensation_key_ranges_match_the_validator():
 
 def test_every_motion_compensation_and_rigid_link_key_is_in_the_reference():
     from towcable_fmu.docs_gen import compensation_key_rows, motion_key_rows
-    from towcable_fmu.rigidlink.scene import RigidLinkScene
+    from towcable_fmu.scene.rigid_link import RigidLinkScene
 
     text = render(build_parser())["scene_keys.md"]
     rows = [r for rs in motion_key_rows().values() for r in rs] + compensation_key_rows() + describe(RigidLinkScene)

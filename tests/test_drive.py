@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from towcable_fmu.drive import knot_drive, taylor_drive
-from towcable_fmu.drive import evaluate_drive
+from towcable_fmu.runtime.drive import knot_drive, taylor_drive
+from towcable_fmu.runtime.drive import evaluate_drive
 
 W = np.array([0.7, 0.3, 1.1, 0.5, 0.9, 0.2])
 AMP = np.array([1.0, 0.5, 2.0, 0.1, 0.05, 0.3])

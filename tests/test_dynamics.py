@@ -10,7 +10,7 @@ from conftest import cable_scene, segment
 from scipy.optimize import brentq
 
 from towcable_fmu.errors import SceneError, SolverError
-from towcable_fmu.numerics.reference_ivp import integrate_reference
+from towcable_fmu.ancf.reference_ivp import integrate_reference
 
 G = 9.81
 
@@ -287,7 +287,7 @@ def test_jacobian_reuse_policy_keeps_a_good_matrix_and_drops_a_failing_one():
     Cost in residual evaluations: an iteration is one (plus a back-solve), a
     factorisation about four (Jacobian and LU, benchmarks/results/profile.md). The
     earlier policy, which reused until a step failed, needed 5.6 iterations per step here."""
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     calm = Simulation.from_scene("hanging_cable", {"solver.time_step": 0.01})  # (a predictor good to one iteration)
     calm.run(10.0)

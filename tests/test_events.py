@@ -107,7 +107,7 @@ def test_snapping_cable_steps_through_its_snaps_without_cut_steps():
     tension-only law switched between the matrix and the iterate, so the kink neither
     sends modified Newton into a 2-cycle nor stalls it: under 1 % of the steps are cut
     (9 % before, each failure a 2-cycle or a crawl at the kink)."""
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     sim = Simulation.from_scene("snapping_cable", {"solver.time_step": 0.002, "solver.locate_events": False})
     sim.initialize()

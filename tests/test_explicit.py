@@ -250,7 +250,7 @@ def test_explicit_scene_in_the_fmu_is_bit_identical_to_the_standalone_run_and_ro
     stepped to the same communication points with the same inputs: the same outputs to the
     last bit. A state saved before the first snaps, restored after them, repeats them exactly."""
     from fmu_util import open_fmu, set_inputs, ship_inputs
-    from towcable_fmu.ship_input import motion_source
+    from towcable_fmu.runtime.ship_input import motion_source
 
     scene = load_scene("snapping_cable_nodal")
     assert scene.solver.integrator == "leapfrog"

@@ -32,7 +32,7 @@ def moving(fmu_paths):
 
 def test_still_ship_cable_equals_the_simulation(fmu_paths):
     """With the ship at rest, the co-simulated cable gives what Simulation gives directly."""
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     result = cosim(fmu_paths, motion="none", compensation="none", duration=0.5)
     s = result.series
@@ -56,7 +56,7 @@ def test_order_ship_then_controller_then_cable(fmu_paths, moving):
     the cable gave at t_k (one step of delay)."""
     from controllers import SetpointAlgorithm, SetpointConfig
     from ship_motion import motion_from_config
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
     import tomllib
 
     s = moving.series

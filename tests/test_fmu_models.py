@@ -62,7 +62,7 @@ def test_nodal_scene_in_the_fmu_starts_at_the_wet_weight(fmu_paths, nodal_scene)
 
 def test_nodal_scene_in_the_fmu_follows_the_simulations_own_run(fmu_paths, nodal_scene):
     from towcable_fmu.nodal.simulation import NodalSimulation
-    from towcable_fmu.ship_input import motion_source
+    from towcable_fmu.runtime.ship_input import motion_source
 
     motion = motion_source(nodal_scene)
     fmu = towcable(fmu_paths, "snapping_cable_nodal")

@@ -48,7 +48,7 @@ def run_cable(fmu, t0: float, steps, motion=None):
 def test_towcable_fmu_equals_the_simulation_driven_directly(fmu_paths):
     """Variable communication steps, a moving ship: the FMU gives bit for bit what
     Simulation.step gives with the same inputs."""
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     motion = regular_motion()
     steps = [0.01, 0.02, 0.005, 0.015, 0.01, 0.03]

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from towcable_fmu.ancf import forces
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 ROOT = Path(__file__).resolve().parents[1]
 RESIDUAL_ARGUMENTS = ("term", "model", "motion", "a", "first", "stop", "out")

@@ -17,7 +17,7 @@ from towcable_fmu.hydro.loading import (BARE, FAIRED, NORMAL_TANGENTIAL, SUN_BAR
 from towcable_fmu.hydro.turbulence import TurbulenceSeries
 from towcable_fmu.scene import scene_from_table
 from towcable_fmu.scene.model import Turbulence
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 G = 9.81
 RHO = 1025.0
@@ -492,8 +492,7 @@ def test_iteration_matrix_water_part_matches_central_differences_of_the_residual
 # WaterModel built here, and compare with W(58) evaluated independently below from the
 # loading functions and C_D(Re) (themselves checked against hand values above).
 from towcable_fmu.hydro.cable import Section, point_load  # noqa: E402
-from towcable_fmu.hydro.water import (  # noqa: E402
-    CURRENT_LINEAR, CURRENT_NONE, CURRENT_UNIFORM, WaterModel, flow)
+from towcable_fmu.hydro.water import CURRENT_LINEAR, CURRENT_NONE, CURRENT_UNIFORM, WaterModel, flow
 
 MU_W = 1.2e-3
 D_CAB = 0.03

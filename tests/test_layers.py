@@ -1,7 +1,12 @@
 """The project's modules are layered: no import cycle, the cable formulations (ANCF,
 nodal-position, rigid-link) do not import each other, and nothing but the command line
 imports the command line. Every import counts, also one inside a function (a deferred
-import still makes the module depend on the other)."""
+import still makes the module depend on the other).
+
+Folders are layered too: every folder (a sub-package of ``towcable_fmu``, or one of its
+top-level modules, or the ``ship_motion`` and ``controllers`` packages) has its place in
+:data:`LAYERS`, and a module reaches, directly or through other modules, only modules of
+its own folder or of a lower layer. A new folder gets its place here."""
 
 from __future__ import annotations
 
@@ -12,6 +17,26 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("towcable_fmu", "ship_motion", "controllers")
 FORMULATIONS = ("towcable_fmu.ancf", "towcable_fmu.nodal", "towcable_fmu.rigidlink")
 COMMAND_LINE = ("towcable_fmu.cli", "towcable_fmu.sweep.cli")
+
+#: The folders from the bottom up; a folder imports only from the layers below its own
+#: (folders of one layer do not import each other).
+LAYERS = (
+    ("towcable_fmu", "towcable_fmu.machine_cache", "towcable_fmu.errors", "towcable_fmu.contract",
+     "towcable_fmu.run_io", "towcable_fmu.builtin_scenes"),
+    ("towcable_fmu.kernel_cache", "towcable_fmu.plots", "towcable_fmu.schema"),
+    ("towcable_fmu.parallel_compile", "towcable_fmu.kinematics", "towcable_fmu.numerics"),
+    ("towcable_fmu.fmi",),
+    ("ship_motion", "controllers"),
+    ("towcable_fmu.scene",),
+    ("towcable_fmu.hydro", "towcable_fmu.contact", "towcable_fmu.viv"),
+    ("towcable_fmu.runtime",),
+    FORMULATIONS,
+    ("towcable_fmu.fmu_build",),
+    ("towcable_fmu.models", "towcable_fmu.animation", "towcable_fmu.cosim"),
+    ("towcable_fmu.analysis", "towcable_fmu.docs_gen", "towcable_fmu.rope_life"),
+    ("towcable_fmu.sweep", "towcable_fmu.fmu", "towcable_fmu.build_command"),
+    ("towcable_fmu.cli",),
+)
 
 
 def modules() -> dict[str, Path]:
@@ -93,7 +118,7 @@ def _in(module: str, package: str) -> bool:
 def test_the_graph_sees_deferred_and_relative_imports():
     """The checks below can fail: the graph finds a known deferred import and a relative one."""
     graph = import_graph()
-    assert "towcable_fmu.simulation" in graph["towcable_fmu.models"]  # inside simulation_for
+    assert "towcable_fmu.ancf.simulation" in graph["towcable_fmu.models"]  # inside simulation_for
     assert "towcable_fmu.ancf.model" in graph["towcable_fmu.ancf.mesh"]  # from .model import
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
 
@@ -114,6 +139,65 @@ def test_only_the_command_line_imports_the_command_line():
     importers = sorted(m for m, targets in graph.items() for t in targets
                        if t in COMMAND_LINE and m not in COMMAND_LINE)
     assert importers == []
+
+
+def folder(module: str) -> str:
+    """The folder of a module: ``towcable_fmu.<first part>``, or its top-level package."""
+    parts = module.split(".")
+    return ".".join(parts[:2]) if parts[0] == "towcable_fmu" and len(parts) > 1 else parts[0]
+
+
+def layer_of() -> dict[str, int]:
+    return {f: i for i, layer in enumerate(LAYERS) for f in layer}
+
+
+def upward_paths(graph: dict[str, set[str]], layers: dict[str, int]) -> list[list[str]]:
+    """For each module, the first chain of imports (direct or through other modules) found
+    that reaches a module of another folder not in a lower layer."""
+    found = []
+    for start in sorted(graph):
+        own = folder(start)
+        parent = {start: None}
+        queue = [start]
+        while queue:
+            m = queue.pop(0)
+            for t in sorted(graph.get(m, ())):
+                if t in parent:
+                    continue
+                parent[t] = m
+                if folder(t) != own and layers[folder(t)] >= layers[own]:
+                    path = [t]
+                    while path[-1] != start:
+                        path.append(parent[path[-1]])
+                    found.append(path[::-1])
+                    queue = []
+                    break
+                queue.append(t)
+    return found
+
+
+def test_every_folder_has_a_layer():
+    layers = layer_of()
+    assert sum(len(layer) for layer in LAYERS) == len(layers)  # no folder twice
+    assert sorted({folder(m) for m in import_graph()} - set(layers)) == []
+
+
+def test_the_layer_check_sees_indirect_and_same_layer_imports():
+    """It can fail: a chain that climbs through a module of a lower folder, and an import
+    between two folders of one layer."""
+    layers = {"towcable_fmu.low": 0, "towcable_fmu.mid": 1, "towcable_fmu.high": 2, "towcable_fmu.peer": 2}
+    graph = {"towcable_fmu.mid.a": {"towcable_fmu.low.b"}, "towcable_fmu.low.b": {"towcable_fmu.low.c"},
+             "towcable_fmu.low.c": {"towcable_fmu.high"}, "towcable_fmu.high": {"towcable_fmu.peer"},
+             "towcable_fmu.peer": set()}
+    assert upward_paths(graph, layers) == [
+        ["towcable_fmu.high", "towcable_fmu.peer"],
+        ["towcable_fmu.low.b", "towcable_fmu.low.c", "towcable_fmu.high"],
+        ["towcable_fmu.low.c", "towcable_fmu.high"],
+        ["towcable_fmu.mid.a", "towcable_fmu.low.b", "towcable_fmu.low.c", "towcable_fmu.high"]]
+
+
+def test_folders_import_only_downward():
+    assert upward_paths(import_graph(), layer_of()) == []
 
 
 #: Below the scene package (issue 38): the ship motion, the controllers, the FMI runtime

@@ -39,7 +39,7 @@ def test_every_model_kind_keeps_the_protocol_and_its_state_round_trips_bit_ident
 
     import numpy as np
 
-    from towcable_fmu.protocol import SOLVER_STATISTICS, CableSimulation
+    from towcable_fmu.runtime.protocol import SOLVER_STATISTICS, CableSimulation
 
     sim = simulation_from(scene)
     assert isinstance(sim, CableSimulation)
@@ -73,7 +73,7 @@ class _Untouchable:
 
 
 @pytest.mark.parametrize("scene", ["hanging_cable", "flume", "full_scale", "pulley_static", "viv_sheave",
-                                   "snapping_cable_nodal", "sea_trial_turn_rigid"])
+                                   "snapping_cable_nodal", "sea_trial_turn_rigid", "tug_tow"])
 def test_the_scene_is_read_once_where_the_model_is_built(scene):
     """After construction every part has its own data: initialising (initial shape,
     statics, compensation, turbulence, wake oscillators), stepping and reading outputs

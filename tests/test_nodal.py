@@ -11,7 +11,7 @@ from scipy.optimize import brentq
 from towcable_fmu.errors import SceneError
 from towcable_fmu.nodal.simulation import NodalSimulation
 from towcable_fmu.scene import load_scene
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 G = 9.81
 

@@ -11,7 +11,7 @@ from scipy import signal
 
 from towcable_fmu.errors import SceneError
 from towcable_fmu.scene import load_scene
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 #: Table 1's configurations: the rope's initial angle below the horizontal [deg]
 INITIAL_ANGLE = {"pulley_static": 34.9, "pulley_static_2": 40.4, "pulley_static_3": 49.4}

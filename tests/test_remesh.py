@@ -11,7 +11,7 @@ from towcable_fmu.ancf.mesh import build_mesh
 from towcable_fmu.ancf.model import Mesh
 from towcable_fmu.ancf.remesh import merge_coordinates, merge_defect, merge_mesh, split_coordinates, split_mesh
 from towcable_fmu.errors import SceneError
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 
 def _field(x: np.ndarray, mesh: Mesh, arc: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

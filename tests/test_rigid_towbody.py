@@ -1,4 +1,4 @@
-"""The rigid 6-DOF towed body (towcable_fmu/rigid_body.py) on the nodal-position
+"""The rigid 6-DOF towed body (towcable_fmu/hydro/rigid_body.py) on the nodal-position
 cable, and on the ANCF cable (towcable_fmu/ancf/system.py, joined by a stiff link).
 
 Each test compares with a closed form or an independent computation:
@@ -401,7 +401,7 @@ def _ancf(table: dict) -> dict:
 
 
 def test_ancf_free_decay_period_is_the_compound_pendulum():
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     mass, jyy, d, length = 50.0, 10.0, 0.8, 0.02
     table = _ancf(_pendulum_table(0.0, length, mass, jyy, d))
@@ -454,7 +454,7 @@ def test_ancf_link_stiffness_does_not_change_the_results():
     of a kicked body moves by the change of the link's stretch T/k (3.5e-5 m at the
     nominal k here, 3.5e-4 m at the softest), far below the tolerances of the ANCF tests,
     and the hanging trim not at all."""
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     runs = {}
     for factor in (0.1, 1.0, 10.0):
@@ -487,7 +487,7 @@ def test_ancf_and_nodal_rigid_bodies_agree():
     swing over 3 s, measured within 8e-5 rad and 6e-5 m of each other, the tension
     within 5 N of 5.9 kN (the cables' own transverse modes, which the two meshes place
     differently)."""
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     table = _tow_table()
     nodal = NodalSimulation(scene_from_table(table)).initialize()
@@ -512,7 +512,7 @@ def test_ancf_iteration_matrix_holds_the_body_couplings():
     the body block leaves out the attitude derivative of its inertia forces)."""
     from towcable_fmu.ancf.system import iteration_matrix, residual
     from towcable_fmu.numerics.banded import band_storage
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     table = _ancf(_tow_table())
     table["cable"]["segments"][0]["elements"] = 4
@@ -560,7 +560,7 @@ def test_ancf_iteration_matrix_holds_the_body_couplings():
 
 def test_ancf_rigid_state_round_trip_continues_bit_identically():
     """get_state/set_state carry the body's coordinates (they are integrator coordinates)."""
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     table = _ancf(_tow_table())
     table["statics"] = {"enabled": False}
@@ -574,3 +574,19 @@ def test_ancf_rigid_state_round_trip_continues_bit_identically():
     assert first == again
     assert {"towbody.roll", "towbody.pitch", "towbody.yaw", "tension.towbody"} <= set(first)
     assert abs(first["towbody.pitch"] - saved["fields"]["q"][sim.model.terms.rigid_link.index + 4]) > 1e-4   # it moved
+
+
+@pytest.mark.parametrize("formulation", ["nodal_position", "ancf"])
+def test_set_body_motion_returns_the_outputs_of_the_new_state(formulation):
+    """Both cables answer set_body_motion alike: the outputs in the new state, the body's
+    new velocity among them."""
+    from towcable_fmu.models import simulation_for
+
+    table = _pendulum_table(0.0, 0.02, 50.0, 10.0, 0.8)
+    if formulation == "ancf":
+        table = _ancf(table)
+    sim = simulation_for(scene_from_table(table))
+    sim.initialize()
+    out = sim.set_body_motion(velocity=[0.1, 0.0, 0.0])
+    assert out == sim.outputs()
+    assert out["towbody.vx"] == pytest.approx(0.1, abs=1e-12)

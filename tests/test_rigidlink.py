@@ -18,7 +18,7 @@ from reference.catenary import solve_elastic_catenary
 from towcable_fmu.cli import main
 from towcable_fmu.errors import SceneError
 from towcable_fmu.rigidlink.dynamics import accelerations, end_tensions, link_forces
-from towcable_fmu.rigidlink.scene import Thrust
+from towcable_fmu.scene.rigid_link import Thrust
 from towcable_fmu.rigidlink.simulation import RigidLinkSimulation
 from towcable_fmu.rigidlink.statics import solve_statics
 from towcable_fmu.rigidlink.thrust import thrust_at

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 
 def _wet_weight_by_hand() -> float:

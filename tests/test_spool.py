@@ -13,7 +13,7 @@ import pytest
 from towcable_fmu.ancf import element
 from towcable_fmu.ancf.feed import MERGE_FACTOR, SPLIT_FACTOR, apply_feed, material_rates, material_rows
 from towcable_fmu.errors import SceneError, SolverError
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 SCENE = str(Path(__file__).parent / "data" / "spool_hanging.toml")
 MU, EA, MASS, G, LENGTH = 0.389, 6.786e6, 250.0, 9.81, 20.0  # the scene's wire, end mass and deployed length
@@ -467,7 +467,7 @@ def test_the_spool_pays_out_as_the_cable_pinned_on_the_drum_does():
 def test_frames_of_a_remeshed_cable_are_padded_with_its_end():
     """Animation snapshots across a split: one node more after it; the earlier frames
     repeat their bottom end up to the same number of rows."""
-    from towcable_fmu.frames import run_with_frames
+    from towcable_fmu.ancf.frames import run_with_frames
 
     sim = Simulation.from_scene(SCENE, _ramp(0.5, 10.5, 0.0, 6.0, 101))
     _, frames = run_with_frames(sim, 11.0, 0.5, 0.1)

@@ -1,4 +1,4 @@
-"""The FMU's step through a Stepper (towcable_fmu.stepper): the same numbers as the
+"""The FMU's step through a Stepper (towcable_fmu.ancf.stepper): the same numbers as the
 integrator's own recording loop with the one-knot drive table, and a rollback point that
 holds every field of the integrator state."""
 
@@ -7,9 +7,9 @@ from __future__ import annotations
 import numpy as np
 
 from ship_motion import DEFAULT_SEA, motion_from_config
-from towcable_fmu import drive as drive_poly
-from towcable_fmu.numerics import genalpha
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.runtime import drive as drive_poly
+from towcable_fmu.ancf import genalpha
+from towcable_fmu.ancf.simulation import Simulation
 
 
 def _pair():

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from conftest import cable_scene, segment
 
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 G = 9.81
 

@@ -61,7 +61,7 @@ def check_complete(table: Path, spec) -> list[dict[str, str]]:
 def kernels():
     """Compile (or load) the kernels in this process first: the spawned pool processes and
     Dask workers then find them in numba's cache."""
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     Simulation.from_scene("full_scale").run(0.1)
 
@@ -279,7 +279,7 @@ def test_local_sweep_records_every_case_and_the_failures(local_sweep):
 
 
 def test_statistics_match_the_series_and_the_statics(local_sweep):
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     tmp, spec, _ = local_sweep
     sim = Simulation.from_scene("full_scale", {"sheave.contact.stiffness": 1e8, "motion.hs": 1.0})

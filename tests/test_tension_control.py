@@ -15,7 +15,7 @@ from fmu_util import open_fmu, outputs, set_inputs
 
 from controllers import SetpointConfig, TensionControl, setpoint_config_from_table
 from towcable_fmu.errors import SceneError
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 R_W = 0.30  # drum radius to the cable centreline [m]
 PHI_NOM = 3.8  # [rad]

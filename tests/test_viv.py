@@ -19,9 +19,9 @@ import pytest
 
 from towcable_fmu.scene import load_scene
 from towcable_fmu.errors import SceneError
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 from towcable_fmu.viv import limit_cycle_amplitude, strouhal_frequency
-from towcable_fmu.viv.loads import force_factors, interpolation_table
+from towcable_fmu.ancf.viv_loads import force_factors, interpolation_table
 from towcable_fmu.viv.oscillator import advance_wake
 
 D, MU, EI, T = 0.020, 1.38, 0.73, 200.0

@@ -13,7 +13,7 @@ from towcable_fmu.ancf.mesh import winch_radius
 from towcable_fmu.contact.surfaces import WINCH, face_force
 from towcable_fmu.kinematics import rotation_matrix
 from towcable_fmu.scene import scene_from_table
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 G = 9.81
 MU = 1e-3  # [kg/m] of the two-mass pulley cable

@@ -3,7 +3,7 @@
 Two panels: the side view (x-z) of the whole system, and a close-up of the winch and
 sheave where the scene has them (else the plan view x-y). The drum and the sheave are
 drawn at their positions on the moving ship, the drum with a spoke at the winch
-rotation. Frames come from :func:`towcable_fmu.frames.run_with_frames`.
+rotation. Frames come from :func:`towcable_fmu.ancf.frames.run_with_frames`.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import numpy as np  # noqa: E402
 from matplotlib.animation import FuncAnimation, PillowWriter  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 
-from .frames import Frames  # noqa: E402
+from .ancf.frames import Frames  # noqa: E402
 from .kinematics import rotation_matrix  # noqa: E402
 from .scene.model import Scene  # noqa: E402
 

@@ -32,7 +32,7 @@ def _simulation(args: argparse.Namespace):
 
 
 #: The co-simulation's own kernels (the light FMUs' models, the master's loop): compiled with the cable's.
-COSIM_KERNEL_SOURCES = ("towcable_fmu.input_kernels", "towcable_fmu.cosim.kernels")
+COSIM_KERNEL_SOURCES = ("towcable_fmu.runtime.input_kernels", "towcable_fmu.cosim.kernels")
 
 
 def _compile_kernels(kind: str, extra: tuple[str, ...] = ()) -> None:
@@ -98,7 +98,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     progress = None if args.quiet else Progress()
     start = time.perf_counter()
     if args.animate:
-        from .frames import run_with_frames
+        from .ancf.frames import run_with_frames
 
         series, frames = run_with_frames(sim, args.duration, 1.0 / args.fps, interval=args.interval,
                                          progress=progress)

@@ -2,7 +2,7 @@
 
 Three Markdown files: every scene key of every model (from the declarations that also
 validate them, through :func:`towcable_fmu.schema.describe`: the scene's in
-:mod:`towcable_fmu.scene.model` and :mod:`towcable_fmu.rigidlink.scene`, the
+:mod:`towcable_fmu.scene.model` and :mod:`towcable_fmu.scene.rigid_link`, the
 ``[motion]`` table's in :mod:`ship_motion.config`, the ``[compensation]`` table's in
 :mod:`controllers.config`), every FMU variable and connection (from the variable
 contract, :mod:`towcable_fmu.contract`), and the command line (from the argument parser
@@ -121,12 +121,12 @@ def _motion_section(level: str) -> list[str]:
 
 def scene_keys_markdown() -> str:
     """Every scene key of every model: meaning, unit, default and allowed values, by table."""
-    from .rigidlink.scene import RigidLinkScene
+    from .scene.rigid_link import RigidLinkScene
     from .scene.loader import ModelChoice
 
     rows = describe(Scene)
     model = describe(ModelChoice)[0]
-    lines = _header("Scene keys", "the declarations of towcable_fmu/scene/model.py, towcable_fmu/rigidlink/scene.py, "
+    lines = _header("Scene keys", "the declarations of towcable_fmu/scene/model.py, towcable_fmu/scene/rigid_link.py, "
                     "ship_motion/config.py and controllers/config.py")
     lines += ["A scene is a TOML file (see the README, section Scenes). Keys are listed by their dotted path, as "
               "`towcable ... --set KEY=VALUE` takes them; `[]` marks an array of tables (`[[cable.segments]]`, "

@@ -1,7 +1,7 @@
 """The ``TowCable`` FMU slave: any towcable scene as an FMI 2.0 Co-Simulation FMU.
 
 The scene decides the model (:func:`towcable_fmu.models.simulation_for`): the ANCF
-cable (:class:`~towcable_fmu.simulation.Simulation`), the nodal-position cable
+cable (:class:`~towcable_fmu.ancf.simulation.Simulation`), the nodal-position cable
 (:class:`~towcable_fmu.nodal.simulation.NodalSimulation`; the winch inputs are not used)
 or the rigid-link tug-tow model
 (:class:`~towcable_fmu.rigidlink.simulation.RigidLinkSimulation`; the tug follows its own
@@ -128,7 +128,7 @@ class TowCable(ContractSlave):
 
 
 class _RowCopy:
-    """Copies a step's outputs (:meth:`~towcable_fmu.simulation_driver.SimulationDriver.step_row`,
+    """Copies a step's outputs (:meth:`~towcable_fmu.runtime.driver.SimulationDriver.step_row`,
     in the order of the Simulation's ``names``) into the FMU's values, as
     :meth:`~towcable_fmu.fmi.slave.ContractSlave.set_outputs` copies the named outputs
     (worked out once per model; the outputs the scene does not model keep the zeros set at

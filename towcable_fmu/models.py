@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
-from .protocol import CableSimulation
+from .runtime.protocol import CableSimulation
 
 
 def model_kind(scene: Any) -> str:
@@ -21,8 +21,8 @@ def model_kind(scene: Any) -> str:
 
 #: Modules listing each model's kernels (``kernel_jobs()``, see
 #: :mod:`towcable_fmu.parallel_compile`); a model not listed compiles as it runs.
-KERNEL_SOURCES = {"ancf": ("towcable_fmu.simulation_kernels", "towcable_fmu.input_kernels"),
-                  "nodal_position": ("towcable_fmu.nodal.simulation_kernels", "towcable_fmu.input_kernels")}
+KERNEL_SOURCES = {"ancf": ("towcable_fmu.ancf.simulation_kernels", "towcable_fmu.runtime.input_kernels"),
+                  "nodal_position": ("towcable_fmu.nodal.simulation_kernels", "towcable_fmu.runtime.input_kernels")}
 
 
 def simulation_from(name_or_path: str | Path,
@@ -40,7 +40,7 @@ def simulation_for(scene: Any) -> CableSimulation:
     Returns
     -------
     Simulation, NodalSimulation or RigidLinkSimulation
-        Each a :class:`~towcable_fmu.protocol.CableSimulation`.
+        Each a :class:`~towcable_fmu.runtime.protocol.CableSimulation`.
     """
     kind = model_kind(scene)
     if kind == "rigid_link":
@@ -51,6 +51,6 @@ def simulation_for(scene: Any) -> CableSimulation:
         from .nodal.simulation import NodalSimulation
 
         return NodalSimulation(scene)
-    from .simulation import Simulation
+    from .ancf.simulation import Simulation
 
     return Simulation(scene)

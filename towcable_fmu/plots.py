@@ -112,7 +112,7 @@ def plot_contact_distribution(distribution: np.ndarray, path: Path, references: 
     ----------
     distribution
         Rows (surface, angle [rad], force per unit length [N/m]) as given by
-        :meth:`towcable_fmu.simulation.Simulation.contact_state`; surface 0 is the winch
+        :meth:`towcable_fmu.ancf.simulation.Simulation.contact_state`; surface 0 is the winch
         drum, 1 the sheave.
     path
         PNG file to write.

@@ -217,7 +217,7 @@ def run_study(algorithms: Sequence[str] = DEFAULT_ALGORITHMS, duration: float = 
     control: dict[str, float] = {}
     if "constant_tension" in algorithms:
         if tension_target is None:
-            from ..simulation import Simulation
+            from ..ancf.simulation import Simulation
 
             tension_target = Simulation.from_scene(scene).initialize()["tension.winch"]
         control = {"tension_target": float(tension_target), "tension_gain": float(tension_gain)}

@@ -15,7 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..kinematics import rotation_matrix
-from ..rigid_body import hanging_coordinates
+from ..hydro.rigid_body import hanging_coordinates
 from ..scene.model import Scene
 from . import initial_shape
 from .mesh import winch_radius

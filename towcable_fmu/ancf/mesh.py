@@ -12,7 +12,7 @@ from typing import Sequence
 import numpy as np
 
 from ..hydro.scene_data import build_water
-from ..rigid_body import NDOF as RIGID_NDOF
+from ..hydro.rigid_body import NDOF as RIGID_NDOF
 from ..scene.model import End, Scene, Segment
 from . import element
 from .forces import build_terms

@@ -6,7 +6,7 @@ the time of evaluation, and the residual rows they would have carried are the
 reaction forces. This replaces the Baumgarte-stabilised constraint W(113)-(122) of
 the reference; with the constraint satisfied exactly the two formulations describe
 the same motion (the constraint form is implemented in the reference path,
-:func:`towcable_fmu.numerics.reference_ivp.integrate_reference`, and the tests compare
+:func:`towcable_fmu.ancf.reference_ivp.integrate_reference`, and the tests compare
 the two).
 
 Attachment kinds (``kind`` column of the attachment table):

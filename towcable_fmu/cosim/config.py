@@ -92,7 +92,7 @@ def compensation_geometry(scene, config: CosimConfig) -> dict[str, Any]:
     """Algorithm, winch radius, nominal winch rotation and reference point for HeaveCompensation.
 
     The same settings the Simulation uses for its own runs
-    (:mod:`towcable_fmu.compensation_setup`: the cable centreline's winch
+    (:mod:`towcable_fmu.ancf.compensation_setup`: the cable centreline's winch
     radius, the scene's phi_nom, the sheave centre or the top of the drum), unless
     ``config`` gives a value. ``theta_nom`` is resolved later (the static angle at t0)
     unless the scene's ``[compensation]`` gives it.
@@ -103,7 +103,7 @@ def compensation_geometry(scene, config: CosimConfig) -> dict[str, Any]:
         A compensation other than 'none' for a scene without a winch.
     """
     from ..errors import SceneError
-    from ..compensation_setup import compensation_config, compensation_table
+    from ..ancf.compensation_setup import compensation_config, compensation_table
 
     # a rigid-link (tug-tow) scene has no [compensation], [winch], [sheave] or [motion]
     table = dict(getattr(scene, "compensation", None) or {})

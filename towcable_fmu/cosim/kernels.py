@@ -2,7 +2,7 @@
 :mod:`towcable_fmu.parallel_compile`.
 
 ``towcable cosim`` compiles them ahead with the cable's kernels and the inputs' (the
-light FMUs' models, :mod:`towcable_fmu.input_kernels`), so that a first run
+light FMUs' models, :mod:`towcable_fmu.runtime.input_kernels`), so that a first run
 compiles nothing once its clock runs (its progress and speed are those of a warm run).
 The arguments have the types the master and the slaves pass: the loop's FMI functions
 are ctypes function pointers of :data:`~towcable_fmu.cosim.loop.VALUES_PROTOTYPE` and

@@ -1,4 +1,6 @@
-"""Hydrodynamic loads on the cable, W(56)-(84), integrated along each element.
+"""Hydrodynamic loads on the cable per unit length at one point, W(56)-(84), for any
+formulation (the ANCF element quadrature: :mod:`towcable_fmu.ancf.forces.hydro_quadrature`;
+the nodal-position element: :mod:`towcable_fmu.nodal.element`).
 
 Per unit length at a submerged point (relative flow ``V = V_f - rdot``, docs/design.md):
 
@@ -22,12 +24,6 @@ The iteration matrix differentiates the other loads exactly (:func:`drag_jacobia
 :func:`point_tangent`), with the mean of the one-sided derivatives where the drag has a
 kink (flow along or across the cable).
 
-Quadrature: the segment's ``N_I`` equally spaced points with trapezoidal weights; an
-interval that crosses the waterline contributes the trapezoid between its submerged
-point and the crossing (found by linear interpolation of the height), W(78)-(80),
-so the load changes continuously as an element enters or leaves the water. An element
-whose Bezier control polygon lies entirely above the surface is dry and skipped.
-
 The point functions take and return scalars (no array slicing or allocation), which is
 what keeps a point evaluation cheap in compiled code.
 """
@@ -37,32 +33,13 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-import numpy as np
-
 from ..kernel_cache import njit
-from ..ancf.partial import active_quadrature, add_point_block, crossing_stiffness, hermite, interpolate
 from .loading import NORMAL_TANGENTIAL, drag_coefficient, drag_coefficient_slope, loading_functions, loading_slopes
 from .water import CURRENT_LINEAR, WaterModel, mean_flow, turbulence
 
 _TINY = 1e-12
 _ZERO3 = (0.0, 0.0, 0.0)
 _ZERO9 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-
-
-class CableHydro(NamedTuple):
-    """Per-element hydrodynamic properties (``enabled`` False: a dry scene)."""
-
-    enabled: bool
-    el_on: np.ndarray      #: (ne,) bool: element can carry hydrodynamic loads
-    el_kind: np.ndarray    #: (ne,) loading functions (loading.BARE / FAIRED)
-    el_d: np.ndarray       #: (ne,) diameter [m]
-    el_area: np.ndarray    #: (ne,) pi d^2 / 4 [m^2]
-    el_cd: np.ndarray      #: (ne,) constant C_D, or 0 for C_D(Re)
-    el_cdt: np.ndarray     #: (ne,) tangential C_Dt on pi d (loading NORMAL_TANGENTIAL; else unused)
-    el_g: np.ndarray       #: (ne,) drag amplification G
-    el_cm: np.ndarray      #: (ne,) added mass coefficient C_m
-    el_npts: np.ndarray    #: (ne,) integration points N_I
-    calls: np.ndarray      #: (1,) int64 counter of point evaluations (to verify skipping)
 
 
 # Scalar arguments only: a plain kernel, compiled once with the loading functions and
@@ -246,13 +223,7 @@ class Section(NamedTuple):
 
 
 @njit(cache=True, inline="always")
-def element_section(hy: CableHydro, e: int) -> Section:
-    """Element ``e``'s cross-section."""
-    return Section(hy.el_kind[e], hy.el_d[e], hy.el_area[e], hy.el_cd[e], hy.el_g[e], hy.el_cm[e], hy.el_cdt[e])
-
-
-@njit(cache=True, inline="always")
-def _direction(p: tuple) -> tuple:
+def unit_direction(p: tuple) -> tuple:
     """Unit vector (3 floats) along the slope ``p`` (3-tuple, any length) and its length."""
     px, py, pz = p
     lp = max(math.sqrt(px * px + py * py + pz * pz), _TINY)
@@ -267,7 +238,7 @@ def point_load(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v
     kind, d, area, cd, g_amp, cm, cdt = section
     vx, vy, vz = v
     ax, ay, az = a
-    ux, uy, uz, lp = _direction(p)
+    ux, uy, uz, lp = unit_direction(p)
     mx, my, mz = mean_flow(w, rz)
     tx, ty, tz, afx, afy, afz = turbulence(w, t)
     fx, fy, fz = drag(w.density, w.viscosity, kind, d, cd, cdt, mx + tx - vx, my + ty - vy, mz + tz - vz, ux, uy, uz)
@@ -300,7 +271,7 @@ def point_tangent(w: WaterModel, section: Section, t: float, rz: float, p: tuple
     (the added-mass matrix W(74) is the tangent's inertia part)."""
     kind, d, area, cd, g_amp, cm, cdt = section
     vx, vy, vz = v
-    ux, uy, uz, lp = _direction(p)
+    ux, uy, uz, lp = unit_direction(p)
     mx, my, mz = mean_flow(w, rz)
     tx, ty, tz, afx, afy, afz = turbulence(w, t)
     (fx, fy, fz), dv, du = drag_jacobian(w.density, w.viscosity, kind, d, cd, cdt, mx + tx - vx, my + ty - vy,
@@ -334,117 +305,3 @@ def point_tangent(w: WaterModel, section: Section, t: float, rz: float, p: tuple
     dfk = _span_matrix(-k_fk * afu, k_fk * afu, 0.0, 0.0, -k_fk, ux, uy, uz, nfx, nfy, nfz)
     dp = _combine(1.0 / lp, _combine(1.0, du, gm, sdu), 1.0 / lp, dfk)
     return (fx, fy, fz), _combine(-1.0, dv, 0.0, _ZERO9), dp, dz  # V = V_f - v
-
-
-@njit(cache=True, inline="always")
-def _is_dry(w: WaterModel, x: np.ndarray, base: int, length: float) -> bool:
-    """Convex-hull test: all Bezier control points of the element above the surface."""
-    z0 = x[base + 2]
-    z1 = x[base + 8]
-    c0 = z0 + length * x[base + 5] / 3.0
-    c1 = z1 - length * x[base + 11] / 3.0
-    return min(min(z0, z1), min(c0, c1)) > w.surface_z
-
-
-@njit(cache=True, inline="always")
-def _quadrature(w: WaterModel, x: np.ndarray, base: int, length: float, npts: int, xi: np.ndarray,
-                wt: np.ndarray, g: np.ndarray, cross: np.ndarray) -> int:
-    """Submerged quadrature points of one element (indicator: depth below the surface)."""
-    for j in range(npts):
-        s = j / (npts - 1)
-        s2 = s * s
-        s3 = s2 * s
-        z = ((1.0 - 3.0 * s2 + 2.0 * s3) * x[base + 2] + length * (s - 2.0 * s2 + s3) * x[base + 5]
-             + (3.0 * s2 - 2.0 * s3) * x[base + 8] + length * (s3 - s2) * x[base + 11])
-        g[j] = w.surface_z - z
-    return active_quadrature(length, npts, g, xi, wt, cross)
-
-
-@njit(cache=True)
-def add_residual(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarray, v: np.ndarray,
-                 a: np.ndarray, t: float, first: int, stop: int, out: np.ndarray) -> None:
-    """Subtract the generalised hydrodynamic force (and add the added-mass inertia) of the
-    submerged elements ``first`` to ``stop - 1`` from the residual ``out``."""
-    m = 2 * hy.el_npts.max()
-    xi = np.empty(m)
-    wt = np.empty(m)
-    g = np.empty(m)
-    cross = np.empty(m, dtype=np.int64)
-    evaluations = 0
-    for e in range(first, stop):
-        if not hy.el_on[e]:
-            continue
-        base = 6 * e
-        length = el_len[e]
-        if _is_dry(w, q, base, length):
-            continue
-        count = _quadrature(w, q, base, length, hy.el_npts[e], xi, wt, g, cross)
-        section = element_section(hy, e)
-        for p in range(count):
-            wp = wt[p]
-            if wp == 0.0:
-                continue
-            n0, n1, n2, n3, d0, d1, d2, d3 = hermite(xi[p], length)
-            rz = interpolate(q, base, n0, n1, n2, n3)[2]
-            fx, fy, fz = point_load(w, section, t, rz, interpolate(q, base, d0, d1, d2, d3),
-                                    interpolate(v, base, n0, n1, n2, n3), interpolate(a, base, n0, n1, n2, n3))
-            evaluations += 1
-            for i, ni in enumerate((n0, n1, n2, n3)):
-                k = wp * ni
-                out[base + 3 * i] -= k * fx
-                out[base + 3 * i + 1] -= k * fy
-                out[base + 3 * i + 2] -= k * fz
-    hy.calls[0] += evaluations
-
-
-@njit(cache=True)
-def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarray, v: np.ndarray, t: float,
-                 e: int, ca: float, cv: float, cq: float, ke: np.ndarray) -> bool:
-    """Add element e's hydrodynamic part of ``ca M + cv C + cq K`` to the 12x12 block ``ke``;
-    False (nothing added) for a dry element or one without hydrodynamic loads.
-
-    Added mass exactly (W(74)); the exact derivatives of the point load with respect to the
-    point velocity, the cable slope and the height (:func:`point_tangent`); the stiffness
-    of the moving waterline crossing from the derivative of the wet length.
-    """
-    if not hy.el_on[e]:
-        return False
-    base = 6 * e
-    length = el_len[e]
-    if _is_dry(w, q, base, length):
-        return False
-    npts = hy.el_npts[e]
-    m = 2 * npts
-    xi = np.empty(m)
-    wt = np.empty(m)
-    g = np.empty(m)
-    cross = np.empty(m, dtype=np.int64)
-    fpt = np.zeros((m, 3))
-    count = _quadrature(w, q, base, length, npts, xi, wt, g, cross)
-    section = element_section(hy, e)
-    rho_a_cm = w.density * section.area * section.cm
-    on_point = np.empty((3, 3))  # the load's derivative with respect to the point (added mass, velocity, height)
-    on_slope = np.empty((3, 3))
-    for p in range(count):
-        wp = wt[p]
-        if wp == 0.0:
-            continue
-        n = hermite(xi[p], length)
-        rz = interpolate(q, base, n[0], n[1], n[2], n[3])[2]
-        slope = interpolate(q, base, n[4], n[5], n[6], n[7])
-        f, dv, dp, dz = point_tangent(w, section, t, rz, slope, interpolate(v, base, n[0], n[1], n[2], n[3]))
-        fpt[p, 0], fpt[p, 1], fpt[p, 2] = f
-        u = _direction(slope)
-        for c in range(3):
-            for k in range(3):
-                mass = rho_a_cm * ((1.0 if c == k else 0.0) - u[c] * u[k])
-                on_point[c, k] = ca * mass - cv * dv[3 * c + k]
-                on_slope[c, k] = -cq * dp[3 * c + k]
-            on_point[c, 2] -= cq * dz[c]
-        add_point_block(ke, wp, n, on_point, on_slope, True)
-    if cq != 0.0:
-        dg = np.zeros((npts, 3))
-        dg[:, 2] = -1.0  # g = surface - z
-        crossing_stiffness(length, npts, cq, xi, g, dg, cross, fpt, count, ke)
-    hy.calls[0] += count
-    return True

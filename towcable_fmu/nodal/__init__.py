@@ -6,5 +6,5 @@ whose unknowns are the nodal positions, a lumped towed body (or a rigid 6-DOF bo
 Modules: :mod:`.model` (scene -> compiled data), :mod:`.element` (one element's loads),
 :mod:`.assembly` (residual over the mesh, matrices by coloured differences),
 :mod:`.integrators` (generalised-alpha and the paper's RK4), :mod:`.statics`,
-:mod:`.simulation` (the run interface of :class:`towcable_fmu.simulation.Simulation`).
+:mod:`.simulation` (the run interface of :class:`towcable_fmu.ancf.simulation.Simulation`).
 """

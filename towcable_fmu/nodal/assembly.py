@@ -24,7 +24,7 @@ from ..kernel_cache import njit
 from ..hydro.towbody import body_force
 from .element import add_element
 from .model import NodalModel
-from ..rigid_body import body_residual, tow_point_state
+from ..hydro.rigid_body import body_residual, tow_point_state
 
 #: Sub-diagonals (= super-diagonals) of the banded matrices (three coordinates per node).
 KL = 5

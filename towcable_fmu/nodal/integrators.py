@@ -1,7 +1,7 @@
 """Time integration of the nodal-position cable: generalised-alpha and the paper's RK4.
 
 * Generalised-alpha (Arnold & Bruls form, the coefficients of
-  :func:`towcable_fmu.numerics.genalpha.scheme_coefficients`): the unknowns are the
+  :func:`towcable_fmu.numerics.alpha_scheme.scheme_coefficients`): the unknowns are the
   accelerations of the free nodes at the end of the step, found by Newton's method
   with the banded iteration matrix ``M + gamma' C + beta' K`` (by coloured differences,
   :func:`.assembly.iteration_matrix`; formed at the start of each step, and at every
@@ -14,7 +14,7 @@
 
 The top node is prescribed (exact elimination): its position, velocity and
 acceleration follow the ship point at every stage from the drive table
-(:mod:`towcable_fmu.drive`). The integrator's settings travel as one
+(:mod:`towcable_fmu.runtime.drive`). The integrator's settings travel as one
 :class:`NodalOptions`, its state as one :class:`NodalState`.
 """
 
@@ -29,11 +29,11 @@ from ..kernel_cache import njit
 from ..kinematics import ship_point_kinematics
 from ..numerics.banded import band_lu, band_solve
 from ..numerics.hermite import step_weights
-from ..drive import evaluate_drive
+from ..runtime.drive import evaluate_drive
 from .assembly import bandwidth, cable_residual, expand, iteration_matrix, residual
 from .element import add_element, axial_force
 from .model import NodalModel
-from ..rigid_body import attitude_ok
+from ..hydro.rigid_body import attitude_ok
 
 # fields of the integrator's clock
 CLOCK_TIME = 0  #: time [s]

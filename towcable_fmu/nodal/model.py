@@ -20,7 +20,8 @@ from ..hydro.scene_data import build_body, build_water
 from ..hydro.towbody import BodyHydro, no_body
 from ..hydro.water import WaterModel
 from ..scene.model import Scene
-from ..rigid_body import NDOF, RigidBodyModel, build_rigid_body
+from ..hydro.rigid_body import NDOF, RigidBodyModel, build_rigid_body
+from ..runtime.tables import reject_unmodelled
 
 
 class NodalModel(NamedTuple):
@@ -55,6 +56,11 @@ def n_coordinates(m: NodalModel) -> int:
     return 3 * m.n_nodes + (NDOF - 3 if m.rigid.enabled else 0)
 
 
+#: The scene tables the nodal-position cable models; any other optional table is refused
+#: (:func:`towcable_fmu.runtime.tables.reject_unmodelled`).
+TABLES = ("water", "towbody", "towbody.lift", "towbody.rigid", "motion")
+
+
 def check_scene(scene: Scene) -> None:
     """Reject what the nodal-position formulation does not model.
 
@@ -70,12 +76,7 @@ def check_scene(scene: Scene) -> None:
         raise SceneError("cable.bottom.type", cable.bottom.type, "'free' with formulation = 'nodal_position'")
     if cable.initial.shape == "sag":
         raise SceneError("cable.initial.shape", "sag", "'straight' or 'auto' with formulation = 'nodal_position'")
-    for key, value in (("winch", scene.winch), ("sheave", scene.sheave), ("load", scene.load)):
-        if value is not None:
-            raise SceneError(key, f"[{key}]", "absent with formulation = 'nodal_position' (not modelled)")
-    if scene.water is not None and scene.water.turbulence is not None:
-        raise SceneError("water.turbulence", "[water.turbulence]",
-                         "absent with formulation = 'nodal_position' (not modelled)")
+    reject_unmodelled(scene, TABLES, "nodal_position")
     if scene.solver.adaptive:
         raise SceneError("solver.adaptive", True, "false with formulation = 'nodal_position' (fixed steps)")
 

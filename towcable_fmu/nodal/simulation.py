@@ -1,12 +1,12 @@
-"""A nodal-position cable scene in time (the protocol of :mod:`towcable_fmu.protocol`,
-its common part in :mod:`towcable_fmu.simulation_driver`).
+"""A nodal-position cable scene in time (the protocol of :mod:`towcable_fmu.runtime.protocol`,
+its common part in :mod:`towcable_fmu.runtime.driver`).
 
 ``NodalSimulation(scene).run(duration, interval)`` returns a dict of arrays named as the
 ANCF outputs (``tension.top``, ``angle.top``, ``tension.max``, ``tension.min``,
 ``towbody.x/y/z/vx/vy/vz``; with a rigid towed body those of its CG, then
 ``tension.towbody`` and ``towbody.roll/pitch/yaw``); the ship motion comes from the scene's ``[motion]`` through
 ``ship_motion`` (``evaluate_many`` at knots no farther apart than the step, as
-:class:`towcable_fmu.simulation.Simulation` does). ``solver.integrator`` picks the
+:class:`towcable_fmu.ancf.simulation.Simulation` does). ``solver.integrator`` picks the
 implicit generalised-alpha (default), the paper's explicit RK4 or the explicit leapfrog
 with lumped masses (:mod:`.explicit`; the scene's step must be below its stability limit,
 checked when the scene is loaded, :meth:`towcable_fmu.scene.model.Scene.validate`).
@@ -18,13 +18,13 @@ from typing import Iterable
 
 import numpy as np
 
-from .. import drive as drive_poly
+from ..runtime import drive as drive_poly
 from ..errors import SolverError
-from ..numerics.genalpha import scheme_coefficients
-from ..rigid_body import angular_kinematics, hanging_coordinates
+from ..numerics.alpha_scheme import scheme_coefficients
+from ..hydro.rigid_body import angular_kinematics, hanging_coordinates
 from ..scene.model import Scene
-from ..ship_input import motion_source
-from ..simulation_driver import SimulationDriver
+from ..runtime.ship_input import motion_source
+from ..runtime.driver import SimulationDriver
 from .assembly import cable_residual, expand
 from .explicit import leapfrog_recording, lumped_accelerations, node_masses
 from .integrators import (CLOCK_STEP, CLOCK_TIME, INTEGRATORS, LEAPFROG, STAT_NAMES, NodalOptions, NodalState,
@@ -189,10 +189,15 @@ class NodalSimulation(SimulationDriver):
                 "angular_momentum": rot @ (m.rigid.inertia @ w), "tow_point": q[-3:], "cable_force": -r[-3:]}
 
     def set_body_motion(self, velocity: Iterable[float] | None = None,
-                        angular_velocity: Iterable[float] | None = None) -> None:
+                        angular_velocity: Iterable[float] | None = None) -> dict[str, float]:
         """Give an initialised rigid towed body a CG velocity [m/s] (inertial) and an
         angular velocity [rad/s] (body axes), then make the accelerations consistent.
         The cable's nodes keep their velocities (the tow point follows the body).
+
+        Returns
+        -------
+        dict
+            Outputs in the new state.
 
         Raises
         ------
@@ -212,6 +217,7 @@ class NodalSimulation(SimulationDriver):
         if not accelerations(self.model, self.state.q, self.state.v, self.state.x, self.time, self.state.stats):
             raise SolverError("the state has no finite acceleration")
         self.state.acc[:] = self.state.x
+        return self.outputs()
 
     def _record(self, block: np.ndarray, rows: np.ndarray, t_land: float) -> int:
         """The integrator's own steps through ``block``, samples read from its interpolant."""

@@ -14,7 +14,7 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from .scene import Layout
+from ..scene.rigid_link import Layout
 
 
 def _parabola(x: float, layout: Layout) -> float:

@@ -1,5 +1,5 @@
-"""The rigid-link model in time (the protocol of :mod:`towcable_fmu.protocol`, its
-common part in :mod:`towcable_fmu.simulation_driver`).
+"""The rigid-link model in time (the protocol of :mod:`towcable_fmu.runtime.protocol`, its
+common part in :mod:`towcable_fmu.runtime.driver`).
 
 :class:`RigidLinkSimulation` integrates with one of scipy's ODE solvers; outputs use the contract's names where
 they exist (``ship.*`` is the tug's fairlead, ``towbody.*`` the towed vessel's,
@@ -17,11 +17,11 @@ from scipy.integrate import BDF, DOP853, LSODA, RK45, Radau
 
 from .. import contract
 from ..errors import SolverError
-from ..protocol import SOLVER_STATISTICS
-from ..simulation_driver import SimulationDriver
+from ..runtime.protocol import SOLVER_STATISTICS
+from ..runtime.driver import SimulationDriver
 from .dynamics import accelerations, end_tensions, link_forces, node_kinematics
 from .initial import parabola_angles
-from .scene import RigidLinkScene, Vessel
+from ..scene.rigid_link import RigidLinkScene, Vessel
 from .statics import solve_statics
 from .thrust import thrust_at
 
@@ -59,7 +59,7 @@ class RigidLinkSimulation(SimulationDriver):
     """
 
     STATE_FIELDS = ("y", "clock", "counters")
-    #: :data:`~towcable_fmu.protocol.SOLVER_STATISTICS` without their ``solver.`` prefix.
+    #: :data:`~towcable_fmu.runtime.protocol.SOLVER_STATISTICS` without their ``solver.`` prefix.
     COUNTER_NAMES = tuple(name.removeprefix("solver.") for name in SOLVER_STATISTICS)
     NEEDS_SHIP = False
 
@@ -74,6 +74,12 @@ class RigidLinkSimulation(SimulationDriver):
         self.tug = _vessel_vector(scene.tug)
         self.towed = _vessel_vector(scene.towed)
         self.g = scene.environment.gravity
+        # what the run reads of the scene, kept here: the scene is read once, in this constructor
+        self._thrust = scene.thrust
+        self._vessels = (scene.tug, scene.towed)
+        self._layout = scene.layout
+        self._mass_per_length = scene.cable.mass_per_length
+        self._solver_options = scene.solver
         #: the state [q, qdot] (q: tug x, z, link angles), the time [s] and the counters
         self.y = np.concatenate(([scene.layout.span, scene.layout.height], self.theta0, np.zeros(n + 2)))
         self.clock = np.zeros(1)
@@ -98,9 +104,10 @@ class RigidLinkSimulation(SimulationDriver):
 
     # -------------------------------------------------------------- model evaluation
     def _inputs(self, t: float) -> tuple[float, np.ndarray]:
-        z0 = self.scene.layout.height
-        refs = np.array([*_heave_reference(self.scene.tug, z0, t), *_heave_reference(self.scene.towed, z0, t)])
-        return thrust_at(t, self.scene.thrust), refs
+        z0 = self._layout.height
+        tug, towed = self._vessels
+        refs = np.array([*_heave_reference(tug, z0, t), *_heave_reference(towed, z0, t)])
+        return thrust_at(t, self._thrust), refs
 
     def _rhs(self, t: float, y: np.ndarray) -> np.ndarray:
         dim = self.l.size + 2
@@ -123,7 +130,7 @@ class RigidLinkSimulation(SimulationDriver):
         t_tug, t_towed, t_min = end_tensions(q, F)
         r, v = node_kinematics(q, qd, self.l)
         span = float(np.hypot(*(r[0] - r[-1])))
-        taut = span >= (1.0 - self.scene.solver.taut_tolerance) * self.length
+        taut = span >= (1.0 - self._solver_options.taut_tolerance) * self.length
         return np.array([r[0, 0], r[0, 1], v[0, 0], v[0, 1], r[-1, 0], r[-1, 1], v[-1, 0], v[-1, 1],
                          t_tug, t_towed, t_min, span, float(taut), thrust], dtype=float)
 
@@ -148,8 +155,8 @@ class RigidLinkSimulation(SimulationDriver):
         if not statics:
             return None
         start = time.perf_counter()
-        lay = self.scene.layout
-        w = self.g * self.scene.cable.mass_per_length
+        lay = self._layout
+        w = self.g * self._mass_per_length
         H0 = w * lay.span ** 2 / (8.0 * lay.sag) if lay.sag > 0 else w * lay.span
         eq = solve_statics(self.theta0, self.l, self.m, self.k, lay.span, self.g, force0=(-H0, 0.5 * w * self.length))
         self._statics = {"solver.statics_iterations": eq.iterations, "solver.statics_residual": eq.residual,
@@ -159,7 +166,7 @@ class RigidLinkSimulation(SimulationDriver):
                 "angle.top": float(angle_top), "cable.span": lay.span}
 
     def _new_solver(self, t_end: float):
-        opts = self.scene.solver
+        opts = self._solver_options
         return _METHODS[opts.method](self._rhs, self.time, self.y, t_end, rtol=opts.rtol, atol=opts.atol,
                                      max_step=opts.max_step)
 
@@ -167,7 +174,7 @@ class RigidLinkSimulation(SimulationDriver):
         """One step of the scipy solver, counted; a SolverError if it fails."""
         message = solver.step()
         if solver.status == "failed":
-            raise SolverError(f"{self.scene.solver.method} failed near t = {solver.t:.6g} s: {message}")
+            raise SolverError(f"{self._solver_options.method} failed near t = {solver.t:.6g} s: {message}")
         self.counters[0] += 1
 
     def _begin_recording(self, samples: np.ndarray) -> None:
@@ -191,7 +198,7 @@ class RigidLinkSimulation(SimulationDriver):
         self._solver = None
 
     def _failure(self, t: float) -> SolverError:
-        return SolverError(f"{self.scene.solver.method} did not reach t = {t:.6g} s")
+        return SolverError(f"{self._solver_options.method} did not reach t = {t:.6g} s")
 
     def _advance(self, dt: float, ship: np.ndarray | None, setpoint: tuple[float, float] | None) -> None:
         """Advance by ``dt`` [s]: each call starts the scene's ODE solver afresh from the
@@ -202,7 +209,7 @@ class RigidLinkSimulation(SimulationDriver):
         while solver.status == "running":
             self._solver_step(solver)
         if not np.all(np.isfinite(solver.y)):
-            raise SolverError(f"{self.scene.solver.method} produced non-finite values at t = {t_end:.6g} s")
+            raise SolverError(f"{self._solver_options.method} produced non-finite values at t = {t_end:.6g} s")
         self._count(solver)
         self.clock[0], self.y = float(t_end), solver.y.copy()
 

@@ -7,7 +7,7 @@ stays constant, and falls linearly over the last ``a``; the thrust is its integr
 
 from __future__ import annotations
 
-from .scene import Thrust
+from ..scene.rigid_link import Thrust
 
 
 def thrust_at(t: float, spec: Thrust) -> float:

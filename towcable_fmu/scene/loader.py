@@ -23,7 +23,7 @@ from ..schema import parse, spec
 from .model import Scene
 
 if TYPE_CHECKING:
-    from ..rigidlink.scene import RigidLinkScene
+    from .rigid_link import RigidLinkScene
 
 _INDEX = re.compile(r"^(?P<name>[^\[\]]+)\[(?P<index>\d+)\]$")
 
@@ -212,14 +212,14 @@ def _model_kind(table: Mapping[str, Any]) -> str:
 
 def scene_from_table(table: dict) -> Scene | RigidLinkScene:
     """Validate a parsed TOML document into a :class:`Scene` (or, with ``model =
-    "rigid_link"``, a :class:`~towcable_fmu.rigidlink.scene.RigidLinkScene`).
+    "rigid_link"``, a :class:`~towcable_fmu.scene.rigid_link.RigidLinkScene`).
 
     The top-level ``model`` key picks the model kind (:class:`ModelChoice`); for the
     cable kinds the scene's ``cable.formulation`` carries it (the key older scenes write).
     """
     model = _model_kind(table)
     if model == "rigid_link":
-        from ..rigidlink.scene import RigidLinkScene  # here: rigidlink.scene itself imports this package
+        from .rigid_link import RigidLinkScene
 
         return parse(RigidLinkScene, table, "")
     scene = {k: v for k, v in table.items() if k != "model"}

@@ -394,7 +394,7 @@ class Lift:
 @dataclasses.dataclass(frozen=True)
 class RigidBody:
     """Rigid-body data of a towed body with ``model = "rigid"`` (6 degrees of freedom;
-    towcable_fmu/rigid_body.py, for both cable formulations). Body axes: x forward,
+    towcable_fmu/hydro/rigid_body.py, for both cable formulations). Body axes: x forward,
     y port, z up, origin at the centre of gravity (CG); attitude R = Rz(yaw) Ry(pitch) Rx(roll). The body's mass,
     volume, drag parts and added-mass coefficients are the keys of [towbody], read in
     body axes."""

@@ -34,7 +34,7 @@ from towcable_fmu.analysis import enclosing_ellipsoid
 from towcable_fmu.hydro.turbulence import TurbulenceSeries
 from towcable_fmu.hydro.water import turbulence
 from towcable_fmu.scene import load_scene
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from study_machine import machine  # noqa: E402

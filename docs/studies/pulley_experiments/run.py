@@ -31,7 +31,7 @@ from scipy import signal
 
 from towcable_fmu.ancf.mesh import held_load_forces
 from towcable_fmu.ancf.system import iteration_matrix
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from study_machine import machine  # noqa: E402

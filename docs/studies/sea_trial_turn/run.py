@@ -28,7 +28,7 @@ def main() -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from towcable_fmu.simulation import Simulation
+    from towcable_fmu.ancf.simulation import Simulation
 
     sim = Simulation.from_scene("sea_trial_turn")
     sim.initialize()

@@ -20,7 +20,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from towcable_fmu.kinematics import rotation_matrix
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 HERE = Path(__file__).parent
 STIFFNESSES = (1e6, 1e8)  # [N/m^2.5]

@@ -17,7 +17,7 @@ import numpy as np
 
 from towcable_fmu.rigidlink.simulation import RigidLinkSimulation
 from towcable_fmu.scene import load_scene
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 HERE = Path(__file__).parent
 DURATION = 200.0  # [s]: slack start, thrust ramp (0-80 s), approach to the 4 m/s steady tow

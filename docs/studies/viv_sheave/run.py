@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from towcable_fmu.simulation import Simulation
+from towcable_fmu.ancf.simulation import Simulation
 
 HERE = Path(__file__).resolve().parent
 D, MU, EI, XI = 0.020, 1.38, 0.73, 0.10

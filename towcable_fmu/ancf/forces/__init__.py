@@ -1,7 +1,7 @@
 """The force terms of the ANCF cable: every force beyond the cable's own structure.
 
-Each term is one module with the contract of :mod:`.term` (``NAME``, ``Data``, ``build``
-and the kernels ``residual`` and ``tangent``); :data:`TERMS` lists them, and
+Each term is one module with the contract of :mod:`.term` (``NAME``, ``TABLES``, ``Data``,
+``build`` and the kernels ``residual`` and ``tangent``); :data:`TERMS` lists them, and
 :func:`add_residuals` and :func:`add_tangents` call their kernels in that order. To add a
 term: write its module, add it to both places here, give it a table in the scene schema
 and a test (docs/extending.md walks through an example; tests/test_force_terms.py checks
@@ -21,6 +21,9 @@ from . import contact, feed, hydrodynamics, rigid_link, rigid_load, towbody, wak
 
 #: The term modules, in the order their residuals and tangents are added.
 TERMS = (feed, rigid_load, rigid_link, contact, hydrodynamics, towbody, wake)
+
+#: The scene tables the terms model (their ``TABLES``, in the order of :data:`TERMS`).
+TABLES = tuple(dict.fromkeys(table for term in TERMS for table in term.TABLES))
 
 #: One field per term (its ``NAME``) holding the term's ``Data``: ``model.terms.contact``.
 ForceTerms = NamedTuple("ForceTerms", [(term.NAME, term.Data) for term in TERMS])

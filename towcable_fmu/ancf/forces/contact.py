@@ -2,7 +2,7 @@
 
 Penalty contact of the cable's surface with the faces of each surface (a cylinder, or
 a grooved sheave's two walls and rim), integrated along each element
-(:mod:`towcable_fmu.contact.cable`); the surfaces move with the ship.
+(:mod:`towcable_fmu.ancf.forces.contact_quadrature`); the surfaces move with the ship.
 """
 
 from __future__ import annotations
@@ -10,13 +10,15 @@ from __future__ import annotations
 import numpy as np
 
 from ...kernel_cache import njit
-from ...contact import cable as cable_contact
+from . import contact_quadrature as cable_contact
 from ...contact.surfaces import CYLINDER, RIM, SHEAVE, WALL_MINUS, WALL_PLUS, WINCH, ContactModel, no_contact
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
 from .term import add_element_block
 
 NAME = "contact"
+#: The scene tables this term models (absent in a scene: the term is disabled).
+TABLES = ("winch", "sheave")
 Data = ContactModel
 
 
@@ -75,7 +77,7 @@ def residual(term: ContactModel, model: CableModel, motion: Motion, a: np.ndarra
 def tangent(term: ContactModel, model: CableModel, motion: Motion, ca: float, cv: float, cq: float,
             ab: np.ndarray) -> None:
     """The contact part of ``cv C + cq K``: a 12x12 block per element a face acts on
-    (:func:`~towcable_fmu.contact.cable.add_jacobian`)."""
+    (:func:`~towcable_fmu.ancf.forces.contact_quadrature.add_jacobian`)."""
     ne = model.el_len.shape[0]
     blocks = np.empty((ne, 12, 12))
     touched = np.empty(ne, dtype=np.bool_)

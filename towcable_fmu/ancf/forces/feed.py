@@ -21,6 +21,8 @@ from ..model import CableModel, Mesh, Motion
 from .term import add_element_block
 
 NAME = "feed"
+#: The scene tables this term models (absent in a scene: the term is disabled).
+TABLES = ("winch",)
 
 #: Gauss points of the transport integrals (their integrands are polynomials of degree <= 7)
 GAUSS_POINTS = 5

@@ -1,8 +1,8 @@
 """Force term: Morison hydrodynamics on the cable (drag, buoyancy, inertia, added mass).
 
-The loads of :mod:`towcable_fmu.hydro.cable` integrated along each submerged element;
-the elements of segments with ``fluid_loads = false`` and every element of a dry scene
-carry none.
+The loads of :mod:`towcable_fmu.hydro.cable` integrated along each submerged element
+(:mod:`.hydro_quadrature`); the elements of segments with ``fluid_loads = false`` and
+every element of a dry scene carry none.
 """
 
 from __future__ import annotations
@@ -10,14 +10,16 @@ from __future__ import annotations
 import numpy as np
 
 from ...kernel_cache import njit
-from ...hydro import cable as cable_hydro
-from ...hydro.cable import CableHydro
 from ...hydro.loading import LOADINGS
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
+from . import hydro_quadrature as cable_hydro
+from .hydro_quadrature import CableHydro
 from .term import add_element_block
 
 NAME = "hydrodynamics"
+#: The scene tables this term models (absent in a scene: the term is disabled).
+TABLES = ("water",)
 Data = CableHydro
 
 

@@ -1,7 +1,7 @@
 """Force term: a rigid 6-DOF towed body and the link that hangs it from the cable's last node.
 
 The body's six coordinates (CG [m], roll, pitch, yaw [rad]) follow the cable's
-(``index``); its equations are those of :mod:`towcable_fmu.rigid_body`. It hangs from the
+(``index``); its equations are those of :mod:`towcable_fmu.hydro.rigid_body`. It hangs from the
 last node by a stiff spring-damper to its tow point (the ANCF node keeps its slope
 coordinates free: the joint is spherical).
 """
@@ -13,12 +13,14 @@ from typing import NamedTuple
 import numpy as np
 
 from ...kernel_cache import njit
-from ...rigid_body import RigidBodyModel, attitude_ok, body_residual, build_rigid_body, tow_point_state
+from ...hydro.rigid_body import RigidBodyModel, attitude_ok, body_residual, build_rigid_body, tow_point_state
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
 from .term import add_block
 
 NAME = "rigid_link"
+#: The scene tables this term models (absent in a scene: the term is disabled).
+TABLES = ("towbody.rigid",)
 
 #: Stiffness of the link between the cable's last node and a rigid body's tow point, as
 #: a multiple of the axial stiffness EA/L of the last element [-]. The link then stretches
@@ -39,7 +41,7 @@ class Data(NamedTuple):
     """The rigid body and its link for the kernels."""
 
     enabled: bool
-    body: RigidBodyModel  #: the body (see towcable_fmu/rigid_body.py)
+    body: RigidBodyModel  #: the body (see towcable_fmu/hydro/rigid_body.py)
     index: int            #: first of the body's six coordinates (CG [m], roll, pitch, yaw [rad])
     k: float              #: stiffness of the link last node - tow point [N/m]
     c: float              #: damping of that link [N s/m]
@@ -69,7 +71,7 @@ def link_rows(term: Data, model: CableModel, zq: np.ndarray, zv: np.ndarray, za:
         Time [s].
     rows
         Output (9,): the link force on the last node's position rows [N], then the six
-        body residuals of :func:`~towcable_fmu.rigid_body.body_residual` [N, N m].
+        body residuals of :func:`~towcable_fmu.hydro.rigid_body.body_residual` [N, N m].
 
     Notes
     -----

@@ -18,6 +18,8 @@ from ..model import CableModel, Mesh, Motion
 from .term import add_block
 
 NAME = "rigid_load"
+#: The scene tables this term models (absent in a scene: the term is disabled).
+TABLES = ("load",)
 
 
 class Data(NamedTuple):

@@ -3,6 +3,9 @@
 A force term is one module of this package with
 
 * ``NAME``: its field in :class:`~towcable_fmu.ancf.forces.ForceTerms` (``model.terms.NAME``);
+* ``TABLES``: the scene tables it models (dotted keys, ``("towbody", "towbody.lift")``): the
+  ANCF cable accepts a scene with them, a formulation that does not list them refuses it
+  (:func:`towcable_fmu.runtime.tables.reject_unmodelled`);
 * ``Data``: a ``NamedTuple`` of arrays and scalars whose first field is ``enabled``;
 * ``build(scene, mesh, model) -> Data``: the term's data from the scene (``model`` is the
   cable's own model, its ``terms`` still empty); a scene without the term gets

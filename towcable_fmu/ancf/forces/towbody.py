@@ -17,6 +17,8 @@ from ..model import CableModel, Mesh, Motion
 from .term import add_block
 
 NAME = "towbody"
+#: The scene tables this term models (absent in a scene: the term is disabled).
+TABLES = ("towbody", "towbody.lift")
 Data = BodyHydro
 
 

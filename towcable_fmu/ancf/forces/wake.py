@@ -1,6 +1,6 @@
 """Force term: the loads of the wake oscillators (vortex-induced vibration).
 
-The wake oscillators run outside the compiled step (:mod:`towcable_fmu.viv.coupling`
+The wake oscillators run outside the compiled step (:mod:`towcable_fmu.ancf.viv_coupling`
 advances them and writes their generalised load into ``load`` before every cable step);
 in the step the load is a given external force.
 """
@@ -16,6 +16,8 @@ from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
 
 NAME = "wake"
+#: The scene tables this term models (absent in a scene: the term is disabled).
+TABLES = ("viv",)
 
 
 class Data(NamedTuple):

@@ -3,7 +3,7 @@ the run loop that records samples, the drive tables from the scene's ship motion
 of a failed step, the JSON state, the solver counters and progress reports.
 
 :class:`SimulationDriver` is the base of the ANCF, nodal-position and rigid-link
-simulations; each implements the protocol :class:`~towcable_fmu.protocol.CableSimulation`
+simulations; each implements the protocol :class:`~towcable_fmu.runtime.protocol.CableSimulation`
 by supplying the model's part through a few hooks (see the class). The registry
 :mod:`towcable_fmu.models` picks the class.
 """
@@ -16,11 +16,11 @@ from typing import Any, Callable, Iterable, Mapping
 
 import numpy as np
 
-from . import contract
+from .. import contract
 from . import drive as drive_poly
-from .errors import SceneError, SolverError
+from ..errors import SceneError, SolverError
 from .sampling import output_interval, sample_times
-from .scene import load_scene
+from ..scene import load_scene
 from .ship_input import check_ship_state
 
 
@@ -384,7 +384,7 @@ class SimulationDriver:
 
     # -------------------------------------------------------------- statistics
     def statistics(self) -> dict[str, float]:
-        """Solver counters since initialisation (:data:`~towcable_fmu.protocol.SOLVER_STATISTICS`
+        """Solver counters since initialisation (:data:`~towcable_fmu.runtime.protocol.SOLVER_STATISTICS`
         and the model's own ``solver.*``), plus the statics' figures."""
         out = {f"solver.{name}": int(v) for name, v in zip(self.COUNTER_NAMES, self._counters())}
         out.update(self._extra_statistics())

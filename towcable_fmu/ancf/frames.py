@@ -1,6 +1,6 @@
 """Snapshots of the cable's shape during a run, for animations.
 
-A normal run records scalar outputs only (:meth:`~towcable_fmu.simulation.Simulation.run`).
+A normal run records scalar outputs only (:meth:`~towcable_fmu.ancf.simulation.Simulation.run`).
 :func:`run_with_frames` runs the same simulation in pieces of one frame interval and
 takes a snapshot of the geometry (node positions, centreline, ship pose, winch rotation,
 rigid load) after each piece. The scalar outputs are those of a single run, at the same
@@ -16,9 +16,9 @@ from typing import Callable
 
 import numpy as np
 
-from .errors import SceneError
+from ..errors import SceneError
 from .simulation import Simulation
-from .sampling import output_interval
+from ..runtime.sampling import output_interval
 
 
 @dataclasses.dataclass(frozen=True)

@@ -25,6 +25,15 @@ class CableSimulation(Protocol):
 
     #: Current simulation time [s].
     time: float
+    #: The loaded scene the simulation was built from (read for its name and title; the
+    #: model itself reads it once, when it is built).
+    scene: Any
+    #: The outputs without ``time``, in the order of :meth:`step_row`.
+    names: tuple[str, ...]
+
+    @property
+    def n_elements(self) -> int:
+        """Number of elements of the cable (links of the rigid-link model)."""
 
     def initialize(self, t0: float = 0.0, ship: np.ndarray | None = None,
                    setpoint: tuple[float, float] | None = None, statics: bool | None = None) -> dict[str, float]:
@@ -34,6 +43,10 @@ class CableSimulation(Protocol):
     def step(self, dt: float, ship: np.ndarray, setpoint: tuple[float, float] | None = None) -> dict[str, float]:
         """Advance by ``dt`` [s] with the ship state (3, 6) and winch set-point at the step's
         start; the outputs at the new time."""
+
+    def step_row(self, dt: float, ship: np.ndarray | None = None,
+                 setpoint: tuple[float, float] | None = None) -> np.ndarray:
+        """:meth:`step` with the outputs as an array in the order of :attr:`names`."""
 
     def run(self, duration: float, interval: float | None = None,
             progress: Callable[[float, float], None] | None = None) -> dict[str, np.ndarray]:

@@ -3,7 +3,7 @@
 Passing the :class:`~towcable_fmu.ancf.system.CableModel` from Python into a compiled
 function costs several microseconds (numba unboxes every array of the tuple), and
 building the outputs in Python costs more; the outputs a co-simulation reads at every
-communication point, and that :meth:`towcable_fmu.simulation.Simulation.run` records
+communication point, and that :meth:`towcable_fmu.ancf.simulation.Simulation.run` records
 at every sample, are therefore computed here in a single call, under the names of
 docs/design.md ("Output names"). :class:`OutputLayout` says which of them a scene has.
 """
@@ -15,21 +15,21 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .kernel_cache import njit
-from .ancf.measures import element_tension, point_on_cable, summary
-from .ancf.model import CableModel
-from .ancf.forces.contact import elements
-from .contact.cable import new_summary, surface_summary
-from .contact.surfaces import SHEAVE, WINCH
-from .hydro.towbody import body_force
-from .kinematics import rotation_matrix
-from .rigid_body import angular_kinematics, tow_point_state
-from .ancf.feed import apply_feed
-from .ancf.prescribed import apply_prescribed
-from .drive import evaluate_drive
-from .numerics.genalpha import CLOCK_TIME, FEED_EVENT
-from .numerics.hermite import step_weights
-from .numerics.genalpha import advance as genalpha_advance
+from ..kernel_cache import njit
+from .measures import element_tension, point_on_cable, summary
+from .model import CableModel
+from .forces.contact import elements
+from .forces.contact_quadrature import new_summary, surface_summary
+from ..contact.surfaces import SHEAVE, WINCH
+from ..hydro.towbody import body_force
+from ..kinematics import rotation_matrix
+from ..hydro.rigid_body import angular_kinematics, tow_point_state
+from .feed import apply_feed
+from .prescribed import apply_prescribed
+from ..runtime.drive import evaluate_drive
+from .genalpha import CLOCK_TIME, FEED_EVENT
+from ..numerics.hermite import step_weights
+from .genalpha import advance as genalpha_advance
 
 #: Entries of the array returned by :func:`output_values`, SI units.
 OUTPUT_FIELDS = ("tension.top", "tension.bottom", "tension.max", "tension.min", "angle.top",
@@ -161,7 +161,7 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
         its tow point); a rigid body's ``towbody.x/y/z`` and
         velocities are those of its CG, and its kinetic energy, weight and link strain
         energy are included in the energies. The contact fields
-        follow :meth:`~towcable_fmu.simulation.Simulation.outputs`. Fields a scene does
+        follow :meth:`~towcable_fmu.ancf.simulation.Simulation.outputs`. Fields a scene does
         not model are NaN.
     """
     out = np.full(len(OUTPUT_FIELDS), np.nan)
@@ -314,8 +314,8 @@ def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive
 
     One compiled call for a whole block of samples (no Python between them). ``rec.rows``
     (len(samples), len(index)) receives the outputs; ``opt``, ``st``, ``ws`` are the
-    solver options, state and workspace of :mod:`towcable_fmu.numerics.genalpha`. It is
-    the one kernel :class:`~towcable_fmu.simulation.Simulation` steps with: with no
+    solver options, state and workspace of :mod:`towcable_fmu.ancf.genalpha`. It is
+    the one kernel :class:`~towcable_fmu.ancf.simulation.Simulation` steps with: with no
     ``index`` it only steps (no outputs are computed), and one sample at the current
     time reads the outputs of the state.
 
@@ -333,7 +333,7 @@ def advance_recording(model: CableModel, opt, st, ws, samples: np.ndarray, drive
         step failed (the state is then the last accepted step) or, with ``finite``, whose
         outputs are not finite (``rec.finite``), or the first sample after a step that
         took a spool end's fed element out of its band
-        (:data:`~towcable_fmu.numerics.genalpha.FEED_EVENT`: the caller tells the cases
+        (:data:`~towcable_fmu.ancf.genalpha.FEED_EVENT`: the caller tells the cases
         apart with :func:`~towcable_fmu.ancf.feed.feed_event`, remeshes and goes on).
     """
     scene, index, rows, finite, interpolate, t_land = rec

@@ -8,8 +8,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .errors import SceneError
-from .scene.model import Scene
+from ..errors import SceneError
+from ..scene.model import Scene
 
 if TYPE_CHECKING:
     from ship_motion import MotionSource

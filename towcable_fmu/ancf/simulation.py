@@ -2,53 +2,51 @@
 
 This is the physics without FMI: load a scene, initialise (statics), step, read
 outputs, get and set the complete state. The FMU slave, the command line, the tests
-and the benchmarks all drive this same object.
+and the benchmarks all drive this same object. Two parts of it live beside it: remeshing
+during a run (:mod:`.remeshing`) and what it tells of its state beyond the outputs
+(:mod:`.state_queries`).
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any, Iterable, Mapping, NamedTuple
+from typing import Any, Mapping, NamedTuple
 
 import numpy as np
 
-from . import drive as drive_poly
-from .ancf import element, measures
-from .ancf.feed import (BOUNDARY_BAND, MERGE_FACTOR, SPLIT_FACTOR, apply_feed, fed_length, feed_event,
-                        material_rates, section_boundaries)
-from .ancf.initial_layout import initial_coordinates, layout_from_scene
-from .ancf.mesh import build_mesh, build_model, held_load_forces
-from .ancf.model import TAUT_RESIDUAL, CableModel, Mesh
-from .ancf.remesh import merge_coordinates, merge_defect, merge_mesh, split_coordinates, split_mesh
-from .ancf.system import residual
+from ..runtime import drive as drive_poly
+from .feed import MERGE_FACTOR, SPLIT_FACTOR, apply_feed, fed_length
+from .initial_layout import initial_coordinates, layout_from_scene
+from .mesh import build_mesh, build_model, held_load_forces
+from .model import CableModel, Mesh
 from .compensation_setup import compensation_config, compensation_table
-from .ancf.forces.contact import elements
-from .contact.cable import new_summary, surface_summary
-from .contact.surfaces import WINCH
+from ..contact.surfaces import WINCH
 from .output_kernel import OUTPUT_FIELDS, OutputLayout, OutputScene, Recording, advance_recording
-from .errors import SceneError, SolverError
-from .rigid_body import angular_kinematics, tow_point_state
-from .hydro.turbulence import TurbulenceSeries
-from .numerics import genalpha
-from .numerics.statics import solve_statics
-from .scene.model import Scene
-from .ship_input import check_ship_state, motion_source
+from ..errors import SceneError, SolverError
+from ..hydro.turbulence import TurbulenceSeries
+from . import genalpha
+from .statics import solve_statics
+from ..scene.model import Scene
+from ..runtime.ship_input import check_ship_state, motion_source
 from .winch_program import program_setpoints
-from .simulation_driver import SimulationDriver
+from ..runtime.driver import SimulationDriver
+from ..runtime.tables import reject_unmodelled
+from .forces import TABLES as TERM_TABLES
 from .stepper import new_stepper, save_state, step_to
+from .remeshing import PAYOUT as _PAYOUT, Remeshing
+from .state_queries import PROFILE_XI as _PROFILE_XI, StateQueries
 
 #: Outputs of a scene with a rigid load held by the cable (``[load]``), see :meth:`Simulation._load_outputs`.
 LOAD_OUTPUTS = ("tension.load", "load.angle", "energy.load")
+#: The scene tables the ANCF cable models: its force terms' and those the simulation reads itself.
+MODELLED_TABLES = TERM_TABLES + ("water.turbulence", "compensation", "motion")
 #: fewest nominal steps in a block of the run loop (one compiled call, one drive table)
 BLOCK_STEPS = 100
-#: Normalised element positions at which the tension profile is sampled.
-_PROFILE_XI = np.array([0.0, 0.5, 1.0])
 #: advance_recording's arguments to step without outputs, and to read all outputs of a state
 _NO_OUTPUTS = np.zeros(0, dtype=np.intp)
 _NO_ROWS = np.empty((1, 0))
 _ALL_OUTPUTS = np.arange(len(OUTPUT_FIELDS), dtype=np.intp)
 _NO_DRIVE = (np.zeros(1), np.zeros((1, 3, 7)))
-_PAYOUT = OUTPUT_FIELDS.index("winch.payout")
 
 
 def solver_options(scene: Scene) -> genalpha.SolverOptions:
@@ -64,16 +62,16 @@ def solver_options(scene: Scene) -> genalpha.SolverOptions:
 
 class TaylorDrive(NamedTuple):
     """The drive of an FMU step: the ship state and winch set-point at the step's start,
-    extrapolated (:func:`towcable_fmu.drive.taylor_drive`, without building its table)."""
+    extrapolated (:func:`towcable_fmu.runtime.drive.taylor_drive`, without building its table)."""
 
     t0: float              #: the step's start [s]
     ship: np.ndarray       #: ship state (3, 6) at t0
     setpoint: tuple[float, float]  #: phi_sp [rad], phi_sp_rate [rad/s] at t0
 
 
-class Simulation(SimulationDriver):
-    """One ANCF towed-cable system in time (the protocol of :mod:`towcable_fmu.protocol`,
-    its common part in :mod:`towcable_fmu.simulation_driver`).
+class Simulation(Remeshing, StateQueries, SimulationDriver):
+    """One ANCF towed-cable system in time (the protocol of :mod:`towcable_fmu.runtime.protocol`,
+    its common part in :mod:`towcable_fmu.runtime.driver`).
 
     Parameters
     ----------
@@ -95,6 +93,7 @@ class Simulation(SimulationDriver):
         if scene.cable.formulation != "ancf":
             raise SceneError("cable.formulation", scene.cable.formulation, "'ancf' for this class (a nodal-position "
                              "cable runs in towcable_fmu.nodal.simulation.NodalSimulation)")
+        reject_unmodelled(scene, MODELLED_TABLES, "ancf")
         self._keep(scene)  # read here only: afterwards every part has its own data
         #: the element layout (a spool end's fed element at its length after the last remesh)
         self._mesh: Mesh = build_mesh(scene.cable.segments)
@@ -138,7 +137,7 @@ class Simulation(SimulationDriver):
         #: all outputs at the state a step reached, recorded by the step's own kernel call
         #: (one call from Python per FMU step instead of two), with the state's fingerprint
         self._stepped: tuple[tuple, np.ndarray] | None = None
-        #: the Stepper of the FMU's steps (:mod:`towcable_fmu.stepper`) with what it holds
+        #: the Stepper of the FMU's steps (:mod:`towcable_fmu.ancf.stepper`) with what it holds
         self._stepper: tuple | None = None
         rigid = bool(self.model.terms.rigid_link.enabled)
         #: The outputs this scene has (names in docs/design.md), see :meth:`outputs`.
@@ -156,7 +155,7 @@ class Simulation(SimulationDriver):
         #: wake oscillators of an enabled [viv] table (None: no vortex-induced vibration)
         self.viv = None
         if scene.viv is not None and scene.viv.enabled:
-            from .viv.coupling import WakeCoupling
+            from .viv_coupling import WakeCoupling
 
             self.viv = WakeCoupling(scene.viv, self.mesh, self.model, scene.water.current.velocity, scene.water.density)
 
@@ -365,7 +364,7 @@ class Simulation(SimulationDriver):
 
     def _integrate(self, t_end: float, drive: tuple[np.ndarray, np.ndarray] | TaylorDrive) -> int:
         """genalpha.advance to t_end; with wake oscillators, one solver step at a time with the
-        staggered coupling of :mod:`towcable_fmu.viv.coupling`. Returns the solver status."""
+        staggered coupling of :mod:`towcable_fmu.ancf.viv_coupling`. Returns the solver status."""
         if self.viv is None:
             return self._step_to(t_end, drive)
         if isinstance(drive, TaylorDrive):
@@ -403,7 +402,7 @@ class Simulation(SimulationDriver):
         with the measured sheave angle (rigorous algorithms) of the current state, or the
         constant-tension winch's set-point from the tension of the current state (one
         control interval: the table's span); the scene's payout program
-        (:mod:`towcable_fmu.winch_program`); else the set-point held."""
+        (:mod:`towcable_fmu.ancf.winch_program`); else the set-point held."""
         if self._program is not None:  # (the scene has no compensation algorithm then)
             setpoints = self._program_setpoints(times)
             self._setpoint = (float(setpoints[-1, 0]), float(setpoints[-1, 1]))
@@ -450,109 +449,6 @@ class Simulation(SimulationDriver):
             self._setpoint = setpoint
         self._integrate_to(t0 + dt, TaylorDrive(t0, ship, self._setpoint))
 
-    def split_element(self, element: int, xi: float = 0.5) -> dict[str, float]:
-        """Split element ``element`` at normalised position ``xi`` in (0, 1) during a run,
-        without disturbing the cable: the new node takes the value and slope of the
-        element's cubic there (:mod:`towcable_fmu.ancf.remesh`), for the coordinates,
-        velocities, accelerations and the integrator's auxiliary accelerations. The shape,
-        the velocities and the kinetic, bending and gravity energies are unchanged; the
-        tension (the decoupled axial strain) and the loads integrated on each element's
-        grid of points (contact, drag) change by their discretisation error, now on the
-        finer elements. The fed element of a spool end gives the new node the material's
-        velocity and acceleration there (:func:`~towcable_fmu.ancf.feed.material_rates`):
-        the node is material from then on. The next step factorises its matrix afresh.
-        A state saved before the split restores across it with a spool end (its state
-        carries the mesh); otherwise :meth:`set_state` refuses it (another model).
-
-        Returns
-        -------
-        dict
-            Outputs after the split.
-
-        Raises
-        ------
-        SceneError
-            If ``element`` or ``xi`` is out of range, or the scene has wake oscillators
-            (their states belong to the elements); nothing is changed.
-        """
-        return self._split(element, xi)
-
-    def _split(self, element: int, xi: float, first_segment: int | None = None) -> dict[str, float]:
-        """:meth:`split_element`, the first piece in ``first_segment`` if given (a section
-        boundary of a spool end's cable)."""
-        old = self.mesh
-        try:
-            mesh = split_mesh(old, element, xi, first_segment)
-        except ValueError as exc:
-            raise SceneError("split_element", (element, xi), str(exc)) from None
-        st = self.state
-        material = None
-        feed = self.model.terms.feed
-        if feed.enabled and element == feed.element:
-            u, du = -feed.radius * st.phi[1], -feed.radius * st.phi[2]
-            span = slice(6 * element, 6 * element + 12)
-            material = material_rates(st.q[span], st.v[span], st.a[span], old.lengths[element], xi, u, du)
-        new = slice(6 * (element + 1), 6 * (element + 2))  # the new node's coordinates
-
-        def transfer(name: str, x: np.ndarray) -> np.ndarray:
-            y = split_coordinates(x, old, element, xi)
-            if material is not None and name != "q":  # the new node moves with the material
-                grid = split_coordinates(st.a, old, element, xi)[new]
-                y[new] = {"v": material[0], "a": material[1], "abar": y[new] + material[1] - grid}[name]
-            return y
-        return self._remesh("split_element", mesh, transfer)
-
-    def merge_elements(self, element: int) -> dict[str, float]:
-        """Merge elements ``element`` and ``element + 1`` (of one segment) into one during a
-        run: the node between them is dropped (:mod:`towcable_fmu.ancf.remesh`). Exact when
-        the two form one cubic (a split undone); otherwise the merged element misses the
-        dropped node by ``merge_defect`` (returned as ``remesh.position_defect`` [m] and
-        ``remesh.slope_defect`` [-] beside the outputs). The next step factorises afresh.
-
-        Raises
-        ------
-        SceneError
-            If there is no such pair in one segment, or the scene has wake oscillators;
-            nothing is changed.
-        """
-        return self._merge(element)
-
-    def _merge(self, element: int, across: bool = False) -> dict[str, float]:
-        """:meth:`merge_elements`; with ``across``, also two elements of different segments
-        (the merged one in the second's)."""
-        old = self.mesh
-        try:
-            mesh = merge_mesh(old, element, across)
-        except ValueError as exc:
-            raise SceneError("merge_elements", element, str(exc)) from None
-        position, slope = merge_defect(self.state.q, old, element)
-        out = self._remesh("merge_elements", mesh, lambda name, x: merge_coordinates(x, old, element))
-        return {**out, "remesh.position_defect": position, "remesh.slope_defect": slope}
-
-    def _remesh(self, key: str, mesh: Mesh, transfer) -> dict[str, float]:
-        """Move the running cable onto ``mesh``: the model rebuilt for it, every coordinate
-        array of the state through ``transfer(name, old vector) -> new vector``, the matrix
-        factorised afresh by the next step; the outputs after."""
-        self._require_initialized()
-        if self.viv is not None:
-            raise SceneError(key, "a scene with wake oscillators", "a scene without them (viv): their states belong "
-                             "to the elements")
-        st, ship = self.state, self.workspace.ship.copy()
-        model = self._model_for(mesh, float(st.phi[0]))
-        state = genalpha.new_state(model)
-        for name in ("q", "v", "a", "abar"):
-            getattr(state, name)[:] = transfer(name, getattr(st, name))
-        for name in ("phi", "clock", "stats"):
-            getattr(state, name)[:] = getattr(st, name)
-        state.jac[:] = st.jac
-        state.jac[genalpha.JAC_VALID] = 0.0  # the matrix of the old mesh: factorise afresh
-        self._use(mesh, model, state)
-        self.workspace.ship[:, :] = ship
-        apply_feed(model, state.phi)
-        residual(model, state.q, state.v, state.a, self.time, self.workspace.ship, self.workspace.r)
-        state.taut[:] = model.el_taut[TAUT_RESIDUAL]  # the taut points of the new elements
-        return self.outputs()
-
     def _model_for(self, mesh: Mesh, phi_ref: float) -> CableModel:
         """The model of ``mesh`` with this run's water; a spool end's fed element has the
         mesh's first length at the winch rotation ``phi_ref`` [rad]."""
@@ -570,114 +466,7 @@ class Simulation(SimulationDriver):
         self._snapshot_buffers = None
         self._last_outputs = {}
 
-    def _follow_feed(self) -> bool:
-        """After a step reported a feed event, remesh a spool end's fed element: split it
-        where the next section's cable came in (``BOUNDARY_BAND`` nominal lengths past a
-        section boundary: the downstream piece keeps its section, the fed element takes the
-        new one); split it when it has grown to SPLIT_FACTOR nominal lengths (one nominal
-        element downstream, the rest upstream, where the cable comes in); or merge it with
-        the next when it has shrunk to MERGE_FACTOR (with the next section's element when
-        its own section is all hauled in: the merged element takes the next section, and
-        the last piece of the fed one, at most MERGE_FACTOR of a nominal length, with it).
-        False if there is no event (the step failed).
-
-        Raises
-        ------
-        SolverError
-            If the winch hauls in the whole cable, or a section whose cable differs from the
-            gear's (it cannot pass over drum and sheave).
-        """
-        if not feed_event(self.model):
-            return False
-        feed = self.model.terms.feed
-        fed, length, nominal = feed.element, float(self.model.el_len[feed.element]), feed.length_nom
-        mesh = self.mesh
-        if length >= feed.boundary + BOUNDARY_BAND * nominal:
-            boundaries = section_boundaries(np.array([seg.length for seg in self.scene.cable.segments]),
-                                            self.scene.winch.gear_segments)
-            upper = int(np.argmin(np.abs(boundaries - (np.sum(mesh.lengths[fed + 1:]) + feed.boundary))))
-            # the piece downstream, up to the boundary, keeps its section
-            self._split(fed, (length - feed.boundary) / length, self.scene.winch.gear_segments + upper)
-        elif length >= SPLIT_FACTOR * nominal:
-            self._split(fed, (length - nominal) / length)
-        elif mesh.n_elements > fed + 1 and mesh.segment_of_element[fed + 1] == mesh.segment_of_element[fed]:
-            self._merge(fed)
-        elif mesh.n_elements > fed + 1:
-            self._check_passes_the_gear(int(mesh.segment_of_element[fed + 1]))
-            self._merge(fed, across=True)
-        else:
-            raise SolverError(f"winch.payout = {float(self._output_array()[_PAYOUT]):.6g} m at t = {self.time:.6g} s "
-                              f"hauls in the whole cable: the deployed length cannot go below "
-                              f"{float(mesh.node_arc[fed]) + MERGE_FACTOR * nominal:.6g} m (the gear and "
-                              f"{MERGE_FACTOR:g} of the last element); limit the winch's set-point")
-        return True
-
-    def _check_passes_the_gear(self, segment: int) -> None:
-        """A section hauled in passes over drum and sheave on the gear's mesh: its cable must
-        be the gear's.
-
-        Raises
-        ------
-        SolverError
-            Naming the first property that differs.
-        """
-        segments, gear = self.scene.cable.segments, self.scene.winch.gear_segments
-        name = segments[segment].cable_difference(segments[gear])
-        if name is not None:
-            raise SolverError(f"winch.payout = {float(self._output_array()[_PAYOUT]):.6g} m at t = {self.time:.6g} s "
-                              f"hauls cable.segments[{segment}] onto the drum, but its {name} = "
-                              f"{getattr(segments[segment], name)!r} differs from the gear's "
-                              f"{getattr(segments[gear], name)!r}: it cannot pass over drum and sheave on "
-                              "their mesh; limit the winch's set-point")
-
     # --------------------------------------------------------------- outputs
-    def reactions(self) -> np.ndarray:
-        """Generalised forces the prescribed coordinates exert on the cable (full vector; zero on free rows) [N]."""
-        st = self.state
-        r = np.zeros_like(st.q)
-        residual(self.model, st.q, st.v, st.a, self.time, self.workspace.ship, r)
-        r[self.model.free_dofs] = 0.0
-        return r
-
-    def node_positions(self) -> np.ndarray:
-        """Node positions [m], shape (nn, 3) (a rigid load's point is not a node)."""
-        return self._cable_coordinates(self.state.q)[:, 0, :].copy()
-
-    def _cable_coordinates(self, x: np.ndarray) -> np.ndarray:
-        """The cable's part of a coordinate vector as (nn, 2, 3): position and slope per node."""
-        return x[:6 * self.mesh.n_nodes].reshape(-1, 2, 3)
-
-    def shape(self, points_per_element: int = 8) -> tuple[np.ndarray, np.ndarray]:
-        """The cable centreline sampled within the elements (for plots and sag).
-
-        Returns
-        -------
-        arc, positions
-            Unstretched arc length from the top [m], shape (k,), and positions [m], (k, 3).
-        """
-        xi = np.linspace(0.0, 1.0, points_per_element + 1)[:-1]
-        x = self._cable_coordinates(self.state.q).reshape(-1, 6)
-        arcs, pts = [], []
-        for e, length in enumerate(self.mesh.lengths):
-            n = element.shape_functions(xi, length)
-            pts.append(n[:, [0]] * x[e, :3] + n[:, [1]] * x[e, 3:] + n[:, [2]] * x[e + 1, :3] + n[:, [3]] * x[e + 1, 3:])
-            arcs.append(self.mesh.node_arc[e] + xi * length)
-        arcs.append([self.mesh.node_arc[-1]])
-        pts.append(x[-1:, :3])
-        return np.concatenate(arcs), np.concatenate(pts)
-
-    def tension_profile(self) -> tuple[np.ndarray, np.ndarray]:
-        """Tension along the cable at element ends and mid-points.
-
-        Returns
-        -------
-        arc, tension
-            Unstretched arc length from the top [m] and tension [N], shape (3 ne,).
-        """
-        t = measures.tension_profile(self.model, self.state.q, _PROFILE_XI)
-        arc = self.mesh.node_arc[:-1, None] + self.mesh.lengths[:, None] * _PROFILE_XI[None, :]
-        return arc.ravel(), t.ravel()
-
     def outputs(self) -> dict[str, float]:
         """Named outputs at the current time (names as in docs/design.md), SI units.
 
@@ -701,7 +490,7 @@ class Simulation(SimulationDriver):
         return row
 
     def _output_array(self) -> np.ndarray:
-        """All fields of :data:`~towcable_fmu.output_kernel.OUTPUT_FIELDS` (NaN: not in the scene)."""
+        """All fields of :data:`~towcable_fmu.ancf.output_kernel.OUTPUT_FIELDS` (NaN: not in the scene)."""
         if self._stepped is not None and self._stepped[0] == self._fingerprint():
             return self._stepped[1]
         rows = np.empty((1, len(OUTPUT_FIELDS)))
@@ -713,7 +502,7 @@ class Simulation(SimulationDriver):
         """genalpha.advance to t_end through advance_recording, which also records all outputs
         there (kept for :meth:`_output_array`; not with wake oscillators, whose coupling
         changes the loads after the step); the solver status. A :class:`TaylorDrive` (an
-        FMU step) goes through the model's :class:`~towcable_fmu.stepper.Stepper`."""
+        FMU step) goes through the model's :class:`~towcable_fmu.ancf.stepper.Stepper`."""
         if isinstance(drive, TaylorDrive):
             return self._step_taylor(t_end, drive)
         keep = self.viv is None
@@ -729,7 +518,7 @@ class Simulation(SimulationDriver):
 
     def _step_taylor(self, t_end: float, drive: TaylorDrive) -> int:
         """:meth:`_step_to` with the one knot of an FMU step, in one compiled call
-        (:func:`towcable_fmu.stepper.step_to`) that does not unbox the model."""
+        (:func:`towcable_fmu.ancf.stepper.step_to`) that does not unbox the model."""
         while True:  # (a spool end's fed element is split or merged between steps)
             stepper, rows, _ = self._current_stepper()
             reached = step_to(stepper, t_end, drive.t0, drive.ship, drive.setpoint[0], drive.setpoint[1])
@@ -739,7 +528,7 @@ class Simulation(SimulationDriver):
         return genalpha.OK if reached == 1 else genalpha.FAILED_MIN_STEP
 
     def _current_stepper(self) -> tuple[Any, np.ndarray, genalpha.IntegratorState]:
-        """The :class:`~towcable_fmu.stepper.Stepper` of the current model, options, state,
+        """The :class:`~towcable_fmu.ancf.stepper.Stepper` of the current model, options, state,
         workspace and output scene (built again when one of them was replaced), its row
         of outputs and its saved state."""
         held = (self.model, self.options, self.state, self.workspace, self.output_scene)
@@ -783,95 +572,6 @@ class Simulation(SimulationDriver):
         return dict(zip(LOAD_OUTPUTS, (float(np.linalg.norm(pull)), float(np.arctan2(d[0], -d[2])),
                                        float(kinetic + link))))
 
-    def body_state(self) -> dict[str, np.ndarray]:
-        """State of a rigid towed body (as :meth:`NodalSimulation.body_state
-        <towcable_fmu.nodal.simulation.NodalSimulation.body_state>`).
-
-        Returns
-        -------
-        dict
-            ``position`` (CG) [m] and ``velocity`` [m/s] (inertial), ``attitude`` (roll,
-            pitch, yaw) [rad], ``rotation`` R (body -> inertial), ``angular_velocity``
-            [rad/s] (body axes), ``angular_momentum`` R J w [kg m^2/s] (inertial axes, about
-            the CG; J without added inertia), ``tow_point`` [m] and ``cable_force`` [N], the
-            force of the cable on the body (the force in the link from the last node to the
-            tow point), and ``link_stretch`` [m], the length of that link.
-
-        Raises
-        ------
-        ValueError
-            If the scene has no rigid towed body.
-        """
-        link, st = self.model.terms.rigid_link, self.state
-        if not link.enabled:
-            raise ValueError("the scene has no rigid towed body (towbody.model = 'rigid')")
-        i = link.index
-        p = i - 6
-        rot, _, w, _ = angular_kinematics(st.q[i:i + 6], st.v[i:i + 6], st.a[i:i + 6])
-        xt, vt, at = np.empty(3), np.empty(3), np.empty(3)
-        tow_point_state(link.body, st.q[i:i + 6], st.v[i:i + 6], st.a[i:i + 6], xt, vt, at)
-        d = st.q[p:p + 3] - xt
-        force = link.k * d + link.c * (st.v[p:p + 3] - vt)
-        return {"position": st.q[i:i + 3].copy(), "velocity": st.v[i:i + 3].copy(),
-                "attitude": st.q[i + 3:i + 6].copy(), "rotation": rot, "angular_velocity": w,
-                "angular_momentum": rot @ (link.body.inertia @ w), "tow_point": xt, "cable_force": force,
-                "link_stretch": float(np.linalg.norm(d))}
-
-    def set_body_motion(self, velocity: Iterable[float] | None = None,
-                        angular_velocity: Iterable[float] | None = None) -> dict[str, float]:
-        """Give an initialised rigid towed body a CG velocity [m/s] (inertial) and an
-        angular velocity [rad/s] (body axes), then make the accelerations consistent.
-        The cable's last node takes the new velocity of the tow point (the link is not
-        set moving); the other nodes keep theirs.
-
-        Returns
-        -------
-        dict
-            Outputs in the new state.
-
-        Raises
-        ------
-        ValueError
-            Without a rigid body, or before :meth:`initialize`.
-        SolverError
-            If the accelerations are not finite.
-        """
-        link, st = self.model.terms.rigid_link, self.state
-        if not link.enabled or not self._initialized:
-            raise ValueError("set_body_motion needs an initialised scene with a rigid towed body")
-        i = link.index
-        v = st.v.copy()
-        if velocity is not None:
-            v[i:i + 3] = np.asarray(velocity, dtype=float)
-        if angular_velocity is not None:
-            _, g, _, _ = angular_kinematics(st.q[i:i + 6], v[i:i + 6], st.a[i:i + 6])
-            v[i + 3:i + 6] = np.linalg.solve(g, np.asarray(angular_velocity, dtype=float))
-        xt, vt, at = np.empty(3), np.empty(3), np.empty(3)
-        tow_point_state(link.body, st.q[i:i + 6], v[i:i + 6], st.a[i:i + 6], xt, vt, at)
-        v[i - 6:i - 3] = vt
-        return self.set_coordinates(st.q.copy(), v)
-
-    def contact_state(self) -> dict[str, np.ndarray]:
-        """Contact at the current time: totals per surface and the force distribution.
-
-        Returns
-        -------
-        dict
-            ``force`` (2, 3) total contact force on the cable of the winch (row 0) and the
-            sheave (row 1) [N]; ``span`` (2, 2) smallest and largest angle of a touching
-            point, measured about the surface axis from the ship's +Z towards +X [rad];
-            ``ends`` (2, 4) element and position of the first and of the last touching point
-            along the cable (element -1: no contact); ``lowest`` (2,) lowest height of the cable above its seated position over
-            the upper half of each surface [m]; ``distribution`` (k, 3) rows (surface,
-            angle [rad], force per unit length [N/m]).
-        """
-        m = self.model
-        out = new_summary(4 * int(m.el_npts.sum()))
-        rows = surface_summary(m.terms.contact, elements(m), self.state.q, self.state.v,
-                               self.workspace.ship, out)
-        return {"force": out.force, "span": out.span, "ends": out.ends, "lowest": out.lowest, "energy": out.energy,
-                "distribution": out.dist[:rows]}
-
     def _counters(self) -> np.ndarray:
         return self.state.stats
 
@@ -895,7 +595,7 @@ class Simulation(SimulationDriver):
 
     def set_state(self, data: Mapping[str, Any]) -> None:
         """Restore a state of :meth:`get_state` (see
-        :meth:`~towcable_fmu.simulation_driver.SimulationDriver.set_state`), also one saved
+        :meth:`~towcable_fmu.runtime.driver.SimulationDriver.set_state`), also one saved
         before a spool end's fed element was split or merged: the model of its mesh is
         rebuilt first (and put back if the state is refused)."""
         kept = (self._mesh, self.model, self.state, self.workspace)

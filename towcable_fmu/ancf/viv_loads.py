@@ -25,7 +25,7 @@ import math
 import numpy as np
 
 from ..kernel_cache import njit
-from ..ancf import element
+from . import element
 
 
 def force_factors(rho: float, speed: float, diameter: float, strouhal: float, cd0: float,

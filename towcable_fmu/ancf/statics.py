@@ -23,12 +23,12 @@ import time
 
 import numpy as np
 
-from ..ancf.feed import apply_feed
-from ..ancf.prescribed import apply_prescribed
-from ..ancf.model import CableModel
-from ..ancf.system import iteration_matrix, residual
+from .feed import apply_feed
+from .prescribed import apply_prescribed
+from .model import CableModel
+from .system import iteration_matrix, residual
 from ..errors import SolverError
-from .banded import band_lu, band_positive_pivots, band_solve, band_storage
+from ..numerics.banded import band_lu, band_positive_pivots, band_solve, band_storage
 
 
 @dataclasses.dataclass

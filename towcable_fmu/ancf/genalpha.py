@@ -59,14 +59,15 @@ from typing import NamedTuple
 import numpy as np
 
 from ..kernel_cache import njit
-from ..ancf.feed import apply_feed, feed_event
-from ..ancf.prescribed import apply_prescribed
-from ..ancf.model import TAUT_MATRIX, TAUT_RESIDUAL, CableModel
-from ..ancf.slack import crossing_fraction
-from ..ancf.system import iteration_matrix, residual
-from ..drive import evaluate_drive
-from .arrays import copy_into
-from .banded import band_lu, band_solve, band_storage
+from .feed import apply_feed, feed_event
+from .prescribed import apply_prescribed
+from .model import TAUT_MATRIX, TAUT_RESIDUAL, CableModel
+from .slack import crossing_fraction
+from .system import iteration_matrix, residual
+from ..runtime.drive import evaluate_drive
+from ..numerics.alpha_scheme import scheme_coefficients
+from ..numerics.arrays import copy_into
+from ..numerics.banded import band_lu, band_solve, band_storage
 
 # results of advance
 OK = 0
@@ -196,16 +197,6 @@ def new_workspace(model: CableModel) -> Workspace:
                      np.zeros(n), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros((3, 6)),
                      np.zeros(4), np.full(1, np.nan), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(4),
                      np.zeros((3, 6)))
-
-
-@njit(cache=True)
-def scheme_coefficients(rho_inf: float):
-    """(am, af, gamma, beta) of the generalised-alpha scheme for ``rho_inf`` in [0, 1]."""
-    am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0)
-    af = rho_inf / (rho_inf + 1.0)
-    gamma = 0.5 + af - am
-    beta = 0.25 * (gamma + 0.5) ** 2
-    return am, af, gamma, beta
 
 
 @njit(cache=True, inline="always")
@@ -445,7 +436,7 @@ def _restore(st, ws):
     copy_into(st.phi, ws.phi0)
 
 
-# A kernel of its own (not IR-inlined into towcable_fmu.output_kernel.advance_recording):
+# A kernel of its own (not IR-inlined into towcable_fmu.ancf.output_kernel.advance_recording):
 # the first run compiles it in parallel with the output kernel (towcable_fmu.parallel_compile).
 @njit(cache=True)
 def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Workspace, t_end: float,

@@ -1,6 +1,6 @@
 """The kernels an ANCF simulation runs, as jobs for :mod:`towcable_fmu.parallel_compile`.
 
-The arguments are those :class:`~towcable_fmu.simulation.Simulation` passes (the same
+The arguments are those :class:`~towcable_fmu.ancf.simulation.Simulation` passes (the same
 calls: initial accelerations, statics, the recording loop). The model's numba types do
 not depend on the scene (every array is float64 or intp, C-ordered, the force terms the
 same tuples whether enabled or not), so one reference scene's arguments compile the
@@ -14,20 +14,20 @@ import functools
 
 import numpy as np
 
-from .ancf.forces import rigid_link
-from .ancf.forces.contact import elements
-from .ancf.measures import element_tension, point_on_cable
-from .ancf.prescribed import apply_prescribed
-from .ancf.system import iteration_matrix, residual
-from .contact import cable as cable_contact
-from .drive import evaluate_drive
-from .hydro import cable as cable_hydro
-from .kinematics import rotation_derivatives, rotation_matrix, ship_point_kinematics
-from .numerics import genalpha
-from .numerics.banded import band_lu, band_positive_pivots, band_solve
+from .forces import rigid_link
+from .forces.contact import elements
+from .measures import element_tension, point_on_cable
+from .prescribed import apply_prescribed
+from .system import iteration_matrix, residual
+from .forces import contact_quadrature as cable_contact
+from ..runtime.drive import evaluate_drive
+from .forces import hydro_quadrature as cable_hydro
+from ..kinematics import rotation_derivatives, rotation_matrix, ship_point_kinematics
+from . import genalpha
+from ..numerics.banded import band_lu, band_positive_pivots, band_solve
 from .output_kernel import Recording, advance_recording, output_values
-from .parallel_compile import Job
-from .rigid_body import tow_point_state
+from ..parallel_compile import Job
+from ..hydro.rigid_body import tow_point_state
 from .simulation import _ALL_OUTPUTS, _NO_DRIVE, Simulation
 from .stepper import new_stepper, save_state, step_to
 

@@ -27,16 +27,16 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.linalg import solve_banded
 
-from ..ancf.prescribed import apply_prescribed
-from ..ancf.system import iteration_matrix, residual
+from .prescribed import apply_prescribed
+from .system import iteration_matrix, residual
 from ..errors import SolverError
-from .banded import band_storage
+from ..numerics.banded import band_storage
 
 
 def integrate_reference(sim, t_end: float, t_eval: np.ndarray, method: str = "Radau",
                         rtol: float = 1e-8, atol: float = 1e-10, constraints: str = "eliminated",
                         baumgarte: tuple[float, float] = (20.0, 20.0)) -> np.ndarray:
-    """Integrate an initialised :class:`~towcable_fmu.simulation.Simulation` with scipy.
+    """Integrate an initialised :class:`~towcable_fmu.ancf.simulation.Simulation` with scipy.
 
     Parameters
     ----------

@@ -52,11 +52,11 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from .kernel_cache import njit
-from .hydro.water import WaterModel, flow
+from ..kernel_cache import njit
+from .water import WaterModel, flow
 
 if TYPE_CHECKING:
-    from .scene.model import Scene
+    from ..scene.model import Scene
 
 #: Number of body coordinates.
 NDOF = 6

@@ -25,10 +25,10 @@ from typing import Any, Mapping
 import numpy as np
 
 from ..errors import SceneError
-from ..ancf.model import CableModel, Mesh
+from .model import CableModel, Mesh
 from ..scene.model import Viv
-from .loads import add_generalised, force_factors, interpolation_table, nodal_forces
-from .oscillator import advance_wake, strouhal_frequency, wake_acceleration
+from .viv_loads import add_generalised, force_factors, interpolation_table, nodal_forces
+from ..viv.oscillator import advance_wake, strouhal_frequency, wake_acceleration
 
 
 class WakeCoupling:

@@ -13,7 +13,7 @@ import numpy as np
 from controllers.setpoint import setpoint_law
 from ship_motion.irregular import harmonic_state
 
-from .parallel_compile import Job
+from ..parallel_compile import Job
 
 
 def kernel_jobs() -> list[Job]:

@@ -9,8 +9,8 @@ integrator state and workspace, the output scene and the buffers of one step (a 
 structref: the arrays are shared with Python, not copied), so that a call passes one
 reference. It is built once per model (:func:`new_stepper`, one unboxing) and
 :func:`step_to` then steps with the drive of one knot (the FMU's constant-acceleration
-extrapolation of the ship, :func:`towcable_fmu.drive.taylor_drive`) and records every
-output field at the end (:func:`towcable_fmu.output_kernel.advance_recording`).
+extrapolation of the ship, :func:`towcable_fmu.runtime.drive.taylor_drive`) and records every
+output field at the end (:func:`towcable_fmu.ancf.output_kernel.advance_recording`).
 """
 
 from __future__ import annotations
@@ -20,8 +20,8 @@ from numba import types
 from numba.core.extending import overload
 from numba.experimental import structref
 
-from .kernel_cache import njit
-from .numerics.arrays import copy_into
+from ..kernel_cache import njit
+from ..numerics.arrays import copy_into
 from .output_kernel import Recording, advance_recording
 
 
@@ -38,10 +38,10 @@ class Stepper(structref.StructRefProxy):
     """A model with its integrator state, held for compiled calls (module docstring).
 
     Fields (read in compiled code): ``model``, ``opt``, ``st``, ``ws``, ``scene`` (the
-    :class:`~towcable_fmu.output_kernel.OutputScene`), ``index`` (the output fields to
+    :class:`~towcable_fmu.ancf.output_kernel.OutputScene`), ``index`` (the output fields to
     record), ``rows`` (1, len(index): the outputs of the last step), ``drive_t`` (1,) and
     ``drive_x`` (1, 3, 7) (the drive of the last step) and ``saved`` (an
-    :class:`~towcable_fmu.numerics.genalpha.IntegratorState` of the same shapes:
+    :class:`~towcable_fmu.ancf.genalpha.IntegratorState` of the same shapes:
     :func:`save_state` copies the state there).
     """
 
@@ -87,9 +87,9 @@ def new_stepper(model, opt, st, ws, scene, index: np.ndarray, rows: np.ndarray, 
     ----------
     model, opt, st, ws
         The cable system, solver options, integrator state and workspace
-        (:mod:`towcable_fmu.numerics.genalpha`).
+        (:mod:`towcable_fmu.ancf.genalpha`).
     scene
-        What the outputs need of the scene (:class:`~towcable_fmu.output_kernel.OutputScene`).
+        What the outputs need of the scene (:class:`~towcable_fmu.ancf.output_kernel.OutputScene`).
     index
         (k,) intp: the output fields :func:`step_to` records.
     rows
@@ -132,7 +132,7 @@ def step_to(stepper: Stepper, t_end: float, t0: float, ship: np.ndarray, phi_sp:
     -------
     int
         1 if ``t_end`` was reached (outputs recorded), 0 if a step failed or a spool end's
-        fed element left its band (as :func:`~towcable_fmu.output_kernel.advance_recording`).
+        fed element left its band (as :func:`~towcable_fmu.ancf.output_kernel.advance_recording`).
     """
     s = stepper
     s.drive_t[0] = t0

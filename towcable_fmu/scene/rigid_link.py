@@ -11,8 +11,8 @@ from __future__ import annotations
 import dataclasses
 
 from ..errors import SceneError
-from ..scene.model import Environment
 from ..schema import spec
+from .model import Environment
 
 
 @dataclasses.dataclass(frozen=True)

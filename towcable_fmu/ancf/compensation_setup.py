@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from typing import Any, Mapping
 
-from .ancf.mesh import winch_radius
-from .scene.model import Scene
+from .mesh import winch_radius
+from ..scene.model import Scene
 
 
 def compensation_table(scene: Scene) -> dict[str, Any]:
