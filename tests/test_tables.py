@@ -15,14 +15,14 @@ import pytest
 from towcable_fmu.ancf.simulation import MODELLED_TABLES
 from towcable_fmu.errors import SceneError
 from towcable_fmu.nodal.model import check_scene
-from towcable_fmu.runtime.tables import optional_tables, reject_unmodelled
+from towcable_fmu.runtime.tables import DATA_TABLES, optional_tables, reject_unmodelled
 from towcable_fmu.scene import load_scene
 from towcable_fmu.scene import model as scene_model
 from towcable_fmu.scene.loader import scene_from_table
 
 
 def _scene_table(name: str) -> dict:
-    return tomllib.loads((resources.files("towcable_fmu") / "scenes" / f"{name}.toml").read_text(encoding="utf-8"))
+    return tomllib.loads((resources.files("towcable_fmu") / "builtin_scenes" / f"{name}.toml").read_text(encoding="utf-8"))
 
 
 def schema_tables(cls: type, prefix: str = "") -> list[str]:
@@ -58,7 +58,7 @@ def test_a_table_the_nodal_cable_does_not_model_is_refused_naming_it():
             table["water"]["turbulence"] = _scene_table("flume")["water"]["turbulence"]
         with pytest.raises(SceneError, match=rf"{key} = '\[{key}\]'.*absent with formulation = 'nodal_position'"):
             check_scene(scene_from_table(table))
-        table["cable"]["formulation"] = "ancf"
+        table["model"] = "ancf"
         table["solver"]["integrator"] = "genalpha"
         scene = scene_from_table(table)
         assert key in optional_tables(scene)
@@ -67,8 +67,9 @@ def test_a_table_the_nodal_cable_does_not_model_is_refused_naming_it():
 
 def test_every_table_of_the_schema_is_modelled_by_the_ancf_cable():
     """A new schema table that no force term declares (and the simulation does not read)
-    is refused by the ANCF cable: this list and the schema's are the same."""
-    assert sorted(schema_tables(scene_model.Scene)) == sorted(MODELLED_TABLES)
+    is refused by the ANCF cable: this list (with the data tables no run reads) and the
+    schema's are the same."""
+    assert sorted(schema_tables(scene_model.Scene)) == sorted(MODELLED_TABLES + DATA_TABLES)
 
 
 def test_the_rule_refuses_a_table_no_one_declared():

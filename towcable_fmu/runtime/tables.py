@@ -15,6 +15,10 @@ from typing import Any, Collection
 
 from ..errors import SceneError
 
+#: Optional tables of data that no run reads, so every formulation accepts them: a cable
+#: segment's rope data (breaking strength, construction), read by :mod:`towcable_fmu.rope_life`.
+DATA_TABLES = ("cable.segments.rope",)
+
 
 def optional_tables(table: Any, prefix: str = "") -> list[str]:
     """Dotted keys of the optional tables present in ``table`` (a scene or one of its
@@ -41,5 +45,5 @@ def reject_unmodelled(scene: Any, modelled: Collection[str], formulation: str) -
         Naming the first such table.
     """
     for key in optional_tables(scene):
-        if key not in modelled:
+        if key not in modelled and key not in DATA_TABLES:
             raise SceneError(key, f"[{key}]", f"absent with formulation = '{formulation}' (not modelled)")
