@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from functools import partial
 from pathlib import Path
 from typing import ClassVar
@@ -25,6 +25,7 @@ from .base import CONFIG_DOF_NAMES, IS_ANGLE, MotionSource, StillShip
 from .irregular import DEFAULT_BAND, IrregularSea
 from .manoeuvre import Manoeuvre, Turn
 from .rao import FRIGATE, ClosedFormRao, Rao, RaoTable, ShipParticulars
+from .rao_files import mirrored, read_orcaflex, read_wamit_4
 from .regular import Harmonic, RegularMotion
 from .spectrum import SPACINGS, Jonswap
 from .superposition import SuperposedMotion
@@ -164,10 +165,25 @@ class TimeSeriesTable:
     RULES: ClassVar[dict[str, str]] = {"initial_position": "only with the velocity format"}
 
 
+#: Values of ``[motion.rao] source``: where the RAOs come from.
+RAO_SOURCES: tuple[str, ...] = ("closed_form", "csv", "wamit", "orcaflex")
+#: The keys each RAO source takes besides ``source`` (and ``file`` for the files).
+RAO_SOURCE_KEYS: dict[str, tuple[str, ...]] = {
+    "closed_form": ("length", "beam", "draught", "block_coefficient", "roll_period", "roll_damping"),
+    "csv": ("file", "angle_unit", "symmetric"),
+    "wamit": ("file", "ulen", "first_column", "centre_of_gravity", "symmetric"),
+    "orcaflex": ("file", "vessel_type", "draught_name"),
+}
+
+
 @dataclass(frozen=True)
 class RaoConfig:
-    """Response amplitude operators: the hull particulars (closed form) or a file."""
+    """Response amplitude operators: the hull particulars (closed form) or a file of a hydrodynamic code."""
 
+    source: str | None = motion_spec(
+        None, choices=RAO_SOURCES, default_text='"csv" with file, else "closed_form"',
+        doc="where the RAOs come from: the closed-form hull, our CSV table, WAMIT's .4 file, an OrcaFlex vessel "
+            "type (text data file); conventions in ship_motion/README.md")
     length: float | None = motion_spec(None, gt=0.0, le=500.0, unit="m", default_text=f"{FRIGATE.length:g}",
                                        doc="length between perpendiculars")
     beam: float | None = motion_spec(None, gt=0.0, le=100.0, unit="m", default_text=f"{FRIGATE.beam:g}", doc="beam")
@@ -182,24 +198,45 @@ class RaoConfig:
                                              default_text=f"{FRIGATE.roll_damping:g}",
                                              doc="roll damping (fraction of critical)")
     file: str | None = motion_spec(
-        None, doc="RAO table: columns omega, heading, <dof>_amp, <dof>_phase; must cover the wave band and the heading")
+        None, doc="the RAO file (csv: columns omega, heading, <dof>_amp, <dof>_phase); must cover the wave band and "
+                  "the heading")
     angle_unit: str | None = motion_spec(None, choices=("deg", "rad"), default_text='"deg"',
-                                         doc="unit of the rotational amplitudes and of all phases in the RAO file")
+                                         doc="csv: unit of the rotational amplitudes and of all phases")
+    ulen: float | None = motion_spec(None, gt=0.0, le=1000.0, unit="m",
+                                     doc="wamit (required): WAMIT's length scale ULEN (in its .out file)")
+    first_column: str | None = motion_spec(None, choices=("period", "frequency"), default_text='"period"',
+                                           doc="wamit: the .4 file's first column, period [s] (IPEROUT = 1) or "
+                                               "frequency [rad/s] (IPEROUT = 2)")
+    centre_of_gravity: tuple[float, float, float] | None = motion_spec(
+        None, length=3, unit="m", doc="wamit (required): the CG in WAMIT's body coordinates (x forward, y port, z up)")
+    symmetric: bool | None = motion_spec(
+        None, default_text="false", doc="csv, wamit: the hull is port-starboard symmetric, the headings given are "
+                                        "mirrored (sway, roll, yaw change sign)")
+    vessel_type: str | None = motion_spec(None, default_text="the only one",
+                                          doc="orcaflex: the vessel type's name")
+    draught_name: str | None = motion_spec(None, default_text="the only one", doc="orcaflex: the draught's name")
 
-    PARTICULARS: ClassVar[tuple[str, ...]] = ("length", "beam", "draught", "block_coefficient", "roll_period",
-                                              "roll_damping")
-    RULES: ClassVar[dict[str, str]] = {"file": "then no hull particulars", "angle_unit": "only with file"}
+    PARTICULARS: ClassVar[tuple[str, ...]] = RAO_SOURCE_KEYS["closed_form"]
+    RULES: ClassVar[dict[str, str]] = {"source": "each source takes its own keys (file required but for "
+                                                 "closed_form)"}
+
+    @property
+    def kind(self) -> str:
+        """The source: the key given, else csv with a file, else closed_form."""
+        return self.source or ("csv" if self.file is not None else "closed_form")
 
     def validate(self, path: str) -> None:
-        """Either the particulars (defaults: the frigate) or a file with its angle unit."""
-        if self.file is not None:
-            for name in self.PARTICULARS:
-                if getattr(self, name) is not None:
-                    raise SceneError(f"{path}.{name}", getattr(self, name), "one of the keys angle_unit, file "
-                                     "(an RAO file replaces the hull particulars)")
-        elif self.angle_unit is not None:
-            raise SceneError(f"{path}.angle_unit", self.angle_unit, "one of the keys " + ", ".join(self.PARTICULARS)
-                             + " (angle_unit only with file)")
+        """Only the keys of the source, and those it requires."""
+        allowed = RAO_SOURCE_KEYS[self.kind]
+        for name in (f.name for f in fields(self)):
+            if name != "source" and name not in allowed and getattr(self, name) is not None:
+                raise SceneError(f"{path}.{name}", getattr(self, name), f"with source = {self.kind!r}, one of "
+                                 "the keys " + ", ".join(allowed))
+        required = ("file",) if self.kind != "closed_form" else ()
+        required += ("ulen", "centre_of_gravity") if self.kind == "wamit" else ()
+        for name in required:
+            if getattr(self, name) is None:
+                raise SceneError(f"{path}.{name}", None, f"required with source = {self.kind!r}")
 
     def particulars(self) -> ShipParticulars:
         """The hull particulars given, the frigate's for the others."""
@@ -379,10 +416,18 @@ def _time_series(config: TimeSeriesTable, key: str, base_dir: Path | None) -> Ti
 
 
 def _rao(config: RaoConfig, key: str, base_dir: Path | None) -> Rao:
-    if config.file is not None:
-        return RaoTable.from_csv(_resolve(config.file, base_dir), angle_unit=config.angle_unit or "deg",
-                                 key=f"{key}.file")
-    return ClosedFormRao(config.particulars())
+    kind = config.kind
+    if kind == "closed_form":
+        return ClosedFormRao(config.particulars())
+    path, file_key = _resolve(config.file, base_dir), f"{key}.file"
+    if kind == "wamit":
+        return read_wamit_4(path, ulen=config.ulen, centre_of_gravity=config.centre_of_gravity,
+                            first_column=config.first_column or "period", symmetric=bool(config.symmetric),
+                            key=file_key)
+    if kind == "orcaflex":
+        return read_orcaflex(path, vessel_type=config.vessel_type, draught=config.draught_name, key=file_key)
+    table = RaoTable.from_csv(path, angle_unit=config.angle_unit or "deg", key=file_key)
+    return mirrored(table) if config.symmetric else table
 
 
 def _irregular(config: IrregularTable, key: str, base_dir: Path | None,
