@@ -18,6 +18,8 @@ from functools import partial
 from pathlib import Path
 from typing import ClassVar
 
+import numpy as np
+
 from towcable_fmu.errors import SceneError
 from towcable_fmu.schema import parse_variant, spec
 
@@ -27,7 +29,8 @@ from .manoeuvre import Manoeuvre, Turn
 from .rao import FRIGATE, ClosedFormRao, Rao, RaoTable, ShipParticulars
 from .rao_files import mirrored, read_orcaflex, read_wamit_4
 from .regular import Harmonic, RegularMotion
-from .spectrum import SPACINGS, Jonswap
+from .spectrum import SPACINGS, SPECTRA, Jonswap, OchiHubble, Spectrum
+from .spreading import Cos2s
 from .superposition import SuperposedMotion
 from .time_series import TimeSeriesMotion, read_motion_csv
 
@@ -56,6 +59,9 @@ DEFAULT_SEA: dict[str, object] = {
         "roll_damping": FRIGATE.roll_damping,
     },
 }
+
+#: Directions of a short-crested sea when ``directions`` is not given.
+DEFAULT_DIRECTIONS = 15
 
 #: :func:`~towcable_fmu.schema.spec` of a motion key: ranges written as intervals
 #: (``a finite number in [0, 20] m``).
@@ -246,14 +252,30 @@ class RaoConfig:
 
 @dataclass(frozen=True)
 class IrregularTable:
-    """An irregular sea: JONSWAP spectrum through the ship's RAOs (IrregularSea)."""
+    """An irregular sea, long- or short-crested: a wave spectrum through the ship's RAOs (IrregularSea)."""
 
     KIND: ClassVar[str] = "irregular"
 
-    hs: float = motion_spec(DEFAULT_SEA["hs"], ge=0.0, le=20.0, unit="m", doc="significant wave height (JONSWAP)")
-    tp: float = motion_spec(DEFAULT_SEA["tp"], ge=2.0, le=30.0, unit="s", doc="peak period")
-    gamma: float = motion_spec(DEFAULT_SEA["gamma"], ge=1.0, le=10.0, unit="-",
-                               doc="peak enhancement factor (1: Pierson-Moskowitz)")
+    hs: float = motion_spec(DEFAULT_SEA["hs"], ge=0.0, le=20.0, unit="m", doc="significant wave height (ochi_hubble: of the wind sea)")
+    tp: float = motion_spec(DEFAULT_SEA["tp"], ge=2.0, le=30.0, unit="s", doc="peak period (ochi_hubble: of the wind sea)")
+    spectrum: str = motion_spec("jonswap", choices=SPECTRA,
+                                doc="wave spectrum: JONSWAP (hs, tp, gamma) or Ochi-Hubble's two peaks (hs, tp, "
+                                    "shape: the wind sea; swell_hs, swell_tp, swell_shape: the swell)")
+    gamma: float | None = motion_spec(None, ge=1.0, le=10.0, unit="-", default_text=f"{DEFAULT_SEA['gamma']:g}",
+                                      doc="jonswap: peak enhancement factor (1: Pierson-Moskowitz)")
+    shape: float | None = motion_spec(None, gt=0.0, le=20.0, unit="-", default_text="1",
+                                      doc="ochi_hubble: shape lambda of the wind sea (1: Pierson-Moskowitz)")
+    swell_hs: float | None = motion_spec(None, ge=0.0, le=20.0, unit="m",
+                                         doc="ochi_hubble (required): significant height of the swell")
+    swell_tp: float | None = motion_spec(None, ge=2.0, le=30.0, unit="s",
+                                         doc="ochi_hubble (required): peak period of the swell")
+    swell_shape: float | None = motion_spec(None, gt=0.0, le=20.0, unit="-", default_text="1",
+                                            doc="ochi_hubble: shape lambda of the swell")
+    spreading: float | None = motion_spec(
+        None, gt=0.0, le=100.0, unit="-", default_text="absent: long-crested",
+        doc="short-crested sea: exponent s of the cos-2s spreading about heading (wind sea 1-10, swell 15-75)")
+    directions: int | None = motion_spec(None, ge=1, le=360, unit="-", default_text="15 with spreading",
+                                         doc="number of directions of a short-crested sea (components each)")
     heading: float = motion_spec(
         DEFAULT_SEA["heading"], unit="deg",
         doc="direction the waves travel, from the ship's X axis counter-clockwise (180: head seas)")
@@ -276,20 +298,41 @@ class IrregularTable:
         RaoConfig(), default_text="the closed-form frigate below",
         doc="response amplitude operators: the hull particulars below (closed form), or a file")
 
-    RULES: ClassVar[dict[str, str]] = {"omega_max": "> omega_min"}
+    RULES: ClassVar[dict[str, str]] = {"omega_max": "> omega_min", "spectrum": "takes its own keys",
+                                       "directions": "only with spreading"}
 
     @property
     def band(self) -> tuple[float, float]:
-        """The wave band [rad/s]: the keys given, else the default band about the peak."""
-        peak = 2.0 * math.pi / self.tp
-        return (DEFAULT_BAND[0] * peak if self.omega_min is None else self.omega_min,
-                DEFAULT_BAND[1] * peak if self.omega_max is None else self.omega_max)
+        """The wave band [rad/s]: the keys given, else the default band about the peak (two peaks: from the
+        lower end about the swell's to the upper end about the wind sea's)."""
+        periods = (self.tp, self.swell_tp) if self.spectrum == "ochi_hubble" and self.swell_tp else (self.tp,)
+        return (DEFAULT_BAND[0] * 2.0 * math.pi / max(periods) if self.omega_min is None else self.omega_min,
+                DEFAULT_BAND[1] * 2.0 * math.pi / min(periods) if self.omega_max is None else self.omega_max)
 
     def validate(self, path: str) -> None:
         """A given omega_max lies above the band's lower end."""
         lo = self.band[0]
         if self.omega_max is not None and self.omega_max <= lo:
             raise SceneError(f"{path}.omega_max", self.omega_max, f"a finite number in ({lo:g}, 20] rad/s")
+        own = {"jonswap": ("gamma",), "ochi_hubble": ("shape", "swell_hs", "swell_tp", "swell_shape")}
+        for kind, names in own.items():
+            for name in names:
+                if kind != self.spectrum and getattr(self, name) is not None:
+                    raise SceneError(f"{path}.{name}", getattr(self, name),
+                                     f"absent with spectrum = {self.spectrum!r} (a key of spectrum = {kind!r})")
+        if self.spectrum == "ochi_hubble":
+            for name in ("swell_hs", "swell_tp"):
+                if getattr(self, name) is None:
+                    raise SceneError(f"{path}.{name}", None, "required with spectrum = 'ochi_hubble'")
+        if self.directions is not None and self.spreading is None:
+            raise SceneError(f"{path}.directions", self.directions, "absent without spreading (a long-crested sea)")
+
+    def wave_spectrum(self) -> Spectrum:
+        """The spectrum the keys describe."""
+        if self.spectrum == "ochi_hubble":
+            return OchiHubble(self.hs, self.tp, self.shape or 1.0, self.swell_hs, self.swell_tp,
+                              self.swell_shape or 1.0)
+        return Jonswap(self.hs, self.tp, DEFAULT_SEA["gamma"] if self.gamma is None else self.gamma)
 
 
 @dataclass(frozen=True)
@@ -443,11 +486,18 @@ def _irregular(config: IrregularTable, key: str, base_dir: Path | None,
             raise SceneError(rao_key, rao.label, f"an RAO table covering the wave band "
                              f"[{omega_min:.4g}, {omega_max:.4g}] rad/s (it covers "
                              f"[{lo:g}, {hi:g}] rad/s; set omega_min/omega_max)")
-        if rao.heading_coordinate(math.radians(config.heading)) is None:
-            raise SceneError(rao_key, rao.label, f"an RAO table covering the heading {config.heading:g} deg")
-    return IrregularSea(Jonswap(config.hs, config.tp, config.gamma), rao, heading=math.radians(config.heading),
+        headings = [0.0] if config.spreading is None else np.degrees(
+            Cos2s(config.spreading).bin_weights(config.directions or DEFAULT_DIRECTIONS)[0])
+        for offset in headings:
+            if rao.heading_coordinate(math.radians(config.heading + offset)) is None:
+                raise SceneError(rao_key, rao.label, f"an RAO table covering the heading {config.heading + offset:g}"
+                                 " deg" + ("" if config.spreading is None else " (a direction of the spread sea; "
+                                           "symmetric = true mirrors a half range)"))
+    spreading = None if config.spreading is None else Cos2s(config.spreading)
+    return IrregularSea(config.wave_spectrum(), rao, heading=math.radians(config.heading),
                         speed=speed, components=config.components, omega_min=omega_min, omega_max=omega_max,
-                        spacing=config.spacing, seed=config.seed, ramp=config.ramp)
+                        spacing=config.spacing, seed=config.seed, ramp=config.ramp, spreading=spreading,
+                        directions=config.directions or DEFAULT_DIRECTIONS)
 
 
 def _manoeuvre(config: ManoeuvreTable, key: str, base_dir: Path | None) -> MotionSource:
