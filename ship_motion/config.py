@@ -27,7 +27,7 @@ from .base import CONFIG_DOF_NAMES, IS_ANGLE, MotionSource, StillShip
 from .irregular import DEFAULT_BAND, IrregularSea
 from .manoeuvre import Manoeuvre, Turn
 from .rao import FRIGATE, ClosedFormRao, Rao, RaoTable, ShipParticulars
-from .rao_files import mirrored, read_orcaflex, read_wamit_4
+from .rao_files import mirrored, read_capytaine, read_orcaflex, read_wamit_4
 from .regular import Harmonic, RegularMotion
 from .spectrum import SPACINGS, SPECTRA, Jonswap, OchiHubble, Spectrum
 from .spreading import Cos2s
@@ -172,13 +172,14 @@ class TimeSeriesTable:
 
 
 #: Values of ``[motion.rao] source``: where the RAOs come from.
-RAO_SOURCES: tuple[str, ...] = ("closed_form", "csv", "wamit", "orcaflex")
+RAO_SOURCES: tuple[str, ...] = ("closed_form", "csv", "wamit", "orcaflex", "capytaine")
 #: The keys each RAO source takes besides ``source`` (and ``file`` for the files).
 RAO_SOURCE_KEYS: dict[str, tuple[str, ...]] = {
     "closed_form": ("length", "beam", "draught", "block_coefficient", "roll_period", "roll_damping"),
     "csv": ("file", "angle_unit", "symmetric"),
     "wamit": ("file", "ulen", "first_column", "centre_of_gravity", "symmetric"),
     "orcaflex": ("file", "vessel_type", "draught_name"),
+    "capytaine": ("file", "symmetric"),
 }
 
 
@@ -189,7 +190,8 @@ class RaoConfig:
     source: str | None = motion_spec(
         None, choices=RAO_SOURCES, default_text='"csv" with file, else "closed_form"',
         doc="where the RAOs come from: the closed-form hull, our CSV table, WAMIT's .4 file, an OrcaFlex vessel "
-            "type (text data file); conventions in ship_motion/README.md")
+            "type (text data file), a Capytaine dataset (netCDF; RAOs by capytaine.post_pro.rao); conventions in "
+            "ship_motion/README.md")
     length: float | None = motion_spec(None, gt=0.0, le=500.0, unit="m", default_text=f"{FRIGATE.length:g}",
                                        doc="length between perpendiculars")
     beam: float | None = motion_spec(None, gt=0.0, le=100.0, unit="m", default_text=f"{FRIGATE.beam:g}", doc="beam")
@@ -216,8 +218,8 @@ class RaoConfig:
     centre_of_gravity: tuple[float, float, float] | None = motion_spec(
         None, length=3, unit="m", doc="wamit (required): the CG in WAMIT's body coordinates (x forward, y port, z up)")
     symmetric: bool | None = motion_spec(
-        None, default_text="false", doc="csv, wamit: the hull is port-starboard symmetric, the headings given are "
-                                        "mirrored (sway, roll, yaw change sign)")
+        None, default_text="false", doc="csv, wamit, capytaine: the hull is port-starboard symmetric, the headings "
+                                        "given are mirrored (sway, roll, yaw change sign)")
     vessel_type: str | None = motion_spec(None, default_text="the only one",
                                           doc="orcaflex: the vessel type's name")
     draught_name: str | None = motion_spec(None, default_text="the only one", doc="orcaflex: the draught's name")
@@ -256,8 +258,10 @@ class IrregularTable:
 
     KIND: ClassVar[str] = "irregular"
 
-    hs: float = motion_spec(DEFAULT_SEA["hs"], ge=0.0, le=20.0, unit="m", doc="significant wave height (ochi_hubble: of the wind sea)")
-    tp: float = motion_spec(DEFAULT_SEA["tp"], ge=2.0, le=30.0, unit="s", doc="peak period (ochi_hubble: of the wind sea)")
+    hs: float = motion_spec(DEFAULT_SEA["hs"], ge=0.0, le=20.0, unit="m",
+                            doc="significant wave height (ochi_hubble: of the wind sea)")
+    tp: float = motion_spec(DEFAULT_SEA["tp"], ge=2.0, le=30.0, unit="s",
+                            doc="peak period (ochi_hubble: of the wind sea)")
     spectrum: str = motion_spec("jonswap", choices=SPECTRA,
                                 doc="wave spectrum: JONSWAP (hs, tp, gamma) or Ochi-Hubble's two peaks (hs, tp, "
                                     "shape: the wind sea; swell_hs, swell_tp, swell_shape: the swell)")
@@ -467,6 +471,8 @@ def _rao(config: RaoConfig, key: str, base_dir: Path | None) -> Rao:
         return read_wamit_4(path, ulen=config.ulen, centre_of_gravity=config.centre_of_gravity,
                             first_column=config.first_column or "period", symmetric=bool(config.symmetric),
                             key=file_key)
+    if kind == "capytaine":
+        return read_capytaine(path, symmetric=bool(config.symmetric), key=file_key)
     if kind == "orcaflex":
         return read_orcaflex(path, vessel_type=config.vessel_type, draught=config.draught_name, key=file_key)
     table = RaoTable.from_csv(path, angle_unit=config.angle_unit or "deg", key=file_key)

@@ -48,7 +48,8 @@ class SourceFrame:
     centre_of_gravity: tuple[float, float, float]
 
 
-def move_to_cg(omega: ArrayLike, heading: ArrayLike, values: ArrayLike, frame: SourceFrame) -> np.ndarray:
+def move_to_cg(omega: ArrayLike, heading: ArrayLike, values: ArrayLike, frame: SourceFrame,
+               wavenumber: ArrayLike | None = None) -> np.ndarray:
     """RAOs of the source's origin (module docstring) moved to the CG.
 
     Parameters
@@ -62,6 +63,8 @@ def move_to_cg(omega: ArrayLike, heading: ArrayLike, values: ArrayLike, frame: S
         (nf, nh, 6): [m/m] translations of the RAO origin, [rad/m] rotations.
     frame
         The source's points.
+    wavenumber
+        Wave numbers k [rad/m], shape (nf,), in finite depth; None: deep water, omega^2 / g.
 
     Returns
     -------
@@ -74,7 +77,7 @@ def move_to_cg(omega: ArrayLike, heading: ArrayLike, values: ArrayLike, frame: S
     arm = np.asarray(frame.centre_of_gravity, dtype=float) - np.asarray(frame.rao_origin, dtype=float)
     out[..., 0:3] += np.cross(out[..., 3:6], arm)
     shift = np.asarray(frame.centre_of_gravity[:2], dtype=float) - np.asarray(frame.phase_origin, dtype=float)
-    k = w ** 2 / GRAVITY
+    k = w ** 2 / GRAVITY if wavenumber is None else np.asarray(wavenumber, dtype=float)
     lead = np.outer(k, shift[0] * np.cos(mu) + shift[1] * np.sin(mu))
     return out * np.exp(1j * lead)[..., None]
 

@@ -166,8 +166,8 @@ def read_orcaflex(path: str | Path, *, vessel_type: str | None = None, draught: 
         except (TypeError, ValueError):
             direction, rows = math.nan, np.empty(0)
         if not math.isfinite(direction) or rows.ndim != 2 or rows.shape[1] != 13 or not np.all(np.isfinite(rows)):
-            raise SceneError(key, str(path), f"{here}: RAODirection a number [deg] and rows of 13 finite numbers (period or frequency, then "
-                             "amplitude and phase of surge, sway, heave, roll, pitch, yaw)")
+            raise SceneError(key, str(path), f"{here}: RAODirection a number [deg] and rows of 13 finite numbers "
+                             "(period or frequency, then amplitude and phase of surge, sway, heave, roll, pitch, yaw)")
         rows = rows[rows[:, 0] > 0.0]
         if abscissa is None:
             abscissa = rows[:, 0]
