@@ -30,6 +30,7 @@ from .rao import FRIGATE, ClosedFormRao, Rao, RaoTable, ShipParticulars
 from .rao_files import mirrored, read_capytaine, read_orcaflex, read_wamit_4
 from .regular import Harmonic, RegularMotion
 from .spectrum import SPACINGS, SPECTRA, Jonswap, OchiHubble, Spectrum
+from .spectrum_file import read_wavespectra
 from .spreading import Cos2s
 from .superposition import SuperposedMotion
 from .time_series import TimeSeriesMotion, read_motion_csv
@@ -263,8 +264,9 @@ class IrregularTable:
     tp: float = motion_spec(DEFAULT_SEA["tp"], ge=2.0, le=30.0, unit="s",
                             doc="peak period (ochi_hubble: of the wind sea)")
     spectrum: str = motion_spec("jonswap", choices=SPECTRA,
-                                doc="wave spectrum: JONSWAP (hs, tp, gamma) or Ochi-Hubble's two peaks (hs, tp, "
-                                    "shape: the wind sea; swell_hs, swell_tp, swell_shape: the swell)")
+                                doc="wave spectrum: JONSWAP (hs, tp, gamma), Ochi-Hubble's two peaks (hs, tp, "
+                                    "shape: the wind sea; swell_hs, swell_tp, swell_shape: the swell) or a directional "
+                                    "spectrum file (spectrum_file, ship_heading; hs, tp, heading, components not used)")
     gamma: float | None = motion_spec(None, ge=1.0, le=10.0, unit="-", default_text=f"{DEFAULT_SEA['gamma']:g}",
                                       doc="jonswap: peak enhancement factor (1: Pierson-Moskowitz)")
     shape: float | None = motion_spec(None, gt=0.0, le=20.0, unit="-", default_text="1",
@@ -280,6 +282,14 @@ class IrregularTable:
         doc="short-crested sea: exponent s of the cos-2s spreading about heading (wind sea 1-10, swell 15-75)")
     directions: int | None = motion_spec(None, ge=1, le=360, unit="-", default_text="15 with spreading",
                                          doc="number of directions of a short-crested sea (components each)")
+    spectrum_file: str | None = motion_spec(
+        None, doc="file (required): a directional spectrum E(f, theta) in wavespectra's netCDF format (efth "
+                  "[m^2/Hz/deg], freq [Hz], dir [deg] coming from, nautical), relative to the scene file's folder")
+    spectrum_record: int | None = motion_spec(None, ge=0, unit="-", default_text="the only one",
+                                              doc="file: index of the spectrum along the file's time (and site)")
+    ship_heading: float | None = motion_spec(
+        None, unit="deg", doc="file (required): compass heading of the ship's X axis, clockwise from north (the "
+                              "file's directions are nautical)")
     heading: float = motion_spec(
         DEFAULT_SEA["heading"], unit="deg",
         doc="direction the waves travel, from the ship's X axis counter-clockwise (180: head seas)")
@@ -318,7 +328,16 @@ class IrregularTable:
         lo = self.band[0]
         if self.omega_max is not None and self.omega_max <= lo:
             raise SceneError(f"{path}.omega_max", self.omega_max, f"a finite number in ({lo:g}, 20] rad/s")
-        own = {"jonswap": ("gamma",), "ochi_hubble": ("shape", "swell_hs", "swell_tp", "swell_shape")}
+        own = {"jonswap": ("gamma",), "ochi_hubble": ("shape", "swell_hs", "swell_tp", "swell_shape"),
+               "file": ("spectrum_file", "spectrum_record", "ship_heading")}
+        if self.spectrum == "file":
+            for name in ("spreading", "directions", "omega_min", "omega_max"):
+                if getattr(self, name) is not None:
+                    raise SceneError(f"{path}.{name}", getattr(self, name), "absent with spectrum = 'file' (the "
+                                     "file's frequencies and directions are the components)")
+            for name in ("spectrum_file", "ship_heading"):
+                if getattr(self, name) is None:
+                    raise SceneError(f"{path}.{name}", None, "required with spectrum = 'file'")
         for kind, names in own.items():
             for name in names:
                 if kind != self.spectrum and getattr(self, name) is not None:
@@ -485,6 +504,8 @@ def _irregular(config: IrregularTable, key: str, base_dir: Path | None,
     speed = config.speed if config.speed is not None else (
         DEFAULT_SEA["speed"] if default_speed is None else default_speed)
     rao = _rao(config.rao, f"{key}.rao", base_dir)
+    if config.spectrum == "file":
+        return _file_sea(config, rao, speed, key, base_dir)
     if isinstance(rao, RaoTable):
         lo, hi = rao.frequency_range
         rao_key = f"{key}.rao.file"
@@ -504,6 +525,23 @@ def _irregular(config: IrregularTable, key: str, base_dir: Path | None,
                         speed=speed, components=config.components, omega_min=omega_min, omega_max=omega_max,
                         spacing=config.spacing, seed=config.seed, ramp=config.ramp, spreading=spreading,
                         directions=config.directions or DEFAULT_DIRECTIONS)
+
+
+def _file_sea(config: IrregularTable, rao: Rao, speed: float, key: str, base_dir: Path | None) -> IrregularSea:
+    spectrum = read_wavespectra(_resolve(config.spectrum_file, base_dir), record=config.spectrum_record,
+                                key=f"{key}.spectrum_file")
+    waves = spectrum.components(ship_heading=config.ship_heading, spacing=config.spacing, seed=config.seed)
+    if isinstance(rao, RaoTable):
+        lo, hi = rao.frequency_range
+        if waves.omega.min() < lo or waves.omega.max() > hi:
+            raise SceneError(f"{key}.rao.file", rao.label, f"an RAO table covering the spectrum file's frequencies "
+                             f"[{waves.omega.min():.4g}, {waves.omega.max():.4g}] rad/s (it covers [{lo:g}, {hi:g}])")
+        for mu in np.unique(waves.heading):
+            if rao.heading_coordinate(float(mu)) is None:
+                raise SceneError(f"{key}.rao.file", rao.label, f"an RAO table covering the heading "
+                                 f"{math.degrees(mu):g} deg (a direction of the spectrum file)")
+    return IrregularSea(spectrum, rao, heading=math.radians(config.heading), speed=speed, seed=config.seed,
+                        spacing=config.spacing, ramp=config.ramp, waves=waves)
 
 
 def _manoeuvre(config: ManoeuvreTable, key: str, base_dir: Path | None) -> MotionSource:

@@ -25,7 +25,7 @@ from towcable_fmu.kernel_cache import njit
 from .base import MotionSource, as_times
 from .ramp import modulate, ramp
 from .rao import GRAVITY, Rao
-from .spectrum import Spectrum, discretise
+from .spectrum import Spectrum, WaveComponents, discretise
 from .spreading import Cos2s, discretise_directional
 
 #: Default frequency band, as multiples of the peak frequency 2 pi / Tp.
@@ -160,12 +160,17 @@ class IrregularSea(MotionSource):
         Directional spreading of a short-crested sea; None: long-crested.
     directions
         Number M of directions of a short-crested sea (``components`` frequencies each).
+    waves
+        Wave components with their headings (from a directional spectrum file,
+        :mod:`ship_motion.spectrum_file`); then ``spectrum`` only names the sea and
+        ``components``, the band, ``spacing``, ``spreading`` and ``directions`` are not used.
     """
 
     def __init__(self, spectrum: Spectrum, rao: Rao, *, heading: float, speed: float = 0.0,
                  components: int = 200, omega_min: float | None = None,
                  omega_max: float | None = None, spacing: str = "random", seed: int = 0,
-                 ramp: float = 20.0, spreading: Cos2s | None = None, directions: int = 1) -> None:
+                 ramp: float = 20.0, spreading: Cos2s | None = None, directions: int = 1,
+                 waves: WaveComponents | None = None) -> None:
         if not (math.isfinite(speed) and speed >= 0.0):
             raise ValueError(f"speed must be finite and >= 0 m/s, got {speed}")
         if not (math.isfinite(ramp) and ramp >= 0.0):
@@ -185,7 +190,13 @@ class IrregularSea(MotionSource):
         self.band = (DEFAULT_BAND[0] * peak if omega_min is None else float(omega_min),
                      DEFAULT_BAND[1] * peak if omega_max is None else float(omega_max))
         self.spreading = spreading
-        if spreading is None:
+        if waves is not None:
+            if waves.heading is None:
+                raise ValueError("waves given to IrregularSea need their headings")
+            self.waves, headings = waves, waves.heading
+            self.band = (float(waves.omega.min()), float(waves.omega.max()))
+            self.band_components = int(waves.omega.size)
+        elif spreading is None:
             self.waves = discretise(spectrum, components=components, omega_min=self.band[0],
                                     omega_max=self.band[1], spacing=spacing, seed=seed)
             headings = np.full(self.waves.omega.size, self.heading)
@@ -265,9 +276,13 @@ class IrregularSea(MotionSource):
 
     @property
     def description(self) -> str:
-        sea = "long-crested" if self.spreading is None else (
-            f"short-crested (cos-2s, s {self.spreading.s:g}, {self.waves.omega.size // self.band_components} "
-            f"directions)")
+        if self.waves.heading is None:
+            sea = "long-crested"
+        elif self.spreading is None:
+            sea = "short-crested (the file's directions)"
+        else:
+            sea = (f"short-crested (cos-2s, s {self.spreading.s:g}, {self.waves.omega.size // self.band_components} "
+                   "directions)")
         return (f"irregular sea: {self.spectrum.description}, {sea}; "
                 f"heading {math.degrees(self.heading):g} deg (180 = head seas), "
                 f"speed {self.speed:g} m/s; {self.band_components} components in "

@@ -42,7 +42,7 @@ from numpy.typing import ArrayLike
 from scipy.integrate import quad
 
 #: Values of ``[motion] spectrum``.
-SPECTRA: tuple[str, ...] = ("jonswap", "ochi_hubble")
+SPECTRA: tuple[str, ...] = ("jonswap", "ochi_hubble", "file")
 
 #: Ways of placing component frequencies within their bins.
 SPACINGS: tuple[str, ...] = ("random", "equal")
