@@ -218,6 +218,17 @@ class WaveComponents:
         return float(np.sum(self.amplitude ** 2) / 2.0)
 
 
+def check_band(components: int, omega_min: float, omega_max: float, spacing: str) -> None:
+    """Raise ValueError unless components >= 1, 0 < omega_min < omega_max [rad/s] and spacing is one of
+    :data:`SPACINGS`."""
+    if components < 1:
+        raise ValueError(f"components must be >= 1, got {components}")
+    if not 0.0 < omega_min < omega_max:
+        raise ValueError(f"need 0 < omega_min < omega_max, got {omega_min}, {omega_max}")
+    if spacing not in SPACINGS:
+        raise ValueError(f"spacing must be one of {SPACINGS}, got {spacing!r}")
+
+
 def discretise(spectrum: Spectrum, *, components: int, omega_min: float, omega_max: float,
                spacing: str = "random", seed: int = 0) -> WaveComponents:
     """Cut the spectrum into harmonic components (module docstring).
@@ -239,12 +250,7 @@ def discretise(spectrum: Spectrum, *, components: int, omega_min: float, omega_m
     -------
     WaveComponents
     """
-    if components < 1:
-        raise ValueError(f"components must be >= 1, got {components}")
-    if not 0.0 < omega_min < omega_max:
-        raise ValueError(f"need 0 < omega_min < omega_max, got {omega_min}, {omega_max}")
-    if spacing not in SPACINGS:
-        raise ValueError(f"spacing must be one of {SPACINGS}, got {spacing!r}")
+    check_band(components, omega_min, omega_max, spacing)
     edges = np.linspace(omega_min, omega_max, components + 1)
     rng = np.random.default_rng(seed)
     phase = rng.uniform(0.0, 2.0 * math.pi, components)

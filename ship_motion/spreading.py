@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .spectrum import SPACINGS, Spectrum, WaveComponents
+from .spectrum import Spectrum, WaveComponents, check_band
 
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(24)
 
@@ -96,12 +96,7 @@ def discretise_directional(spectrum: Spectrum, spreading: Cos2s, *, mean_heading
     WaveComponents
         Direction m's components are entries m N to (m + 1) N - 1; ``heading`` is set.
     """
-    if components < 1:
-        raise ValueError(f"components must be >= 1, got {components}")
-    if not 0.0 < omega_min < omega_max:
-        raise ValueError(f"need 0 < omega_min < omega_max, got {omega_min}, {omega_max}")
-    if spacing not in SPACINGS:
-        raise ValueError(f"spacing must be one of {SPACINGS}, got {spacing!r}")
+    check_band(components, omega_min, omega_max, spacing)
     centres, weights = spreading.bin_weights(directions)
     edges = np.linspace(omega_min, omega_max, components + 1)
     rng = np.random.default_rng(seed)
