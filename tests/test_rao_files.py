@@ -285,3 +285,15 @@ def test_bad_orcaflex_file_names_the_key(tmp_path, edit, match):
     with pytest.raises(SceneError, match=match) as err:
         read_orcaflex(path, key="motion.rao.file")
     assert err.value.key == "motion.rao.file" and "b.yml" in str(err.value)
+
+
+def test_manoeuvre_waves_take_an_rao_file(tmp_path):
+    """[motion.waves.rao] of a manoeuvre: the same door, the manoeuvre's speed for the encounter frequency."""
+    rao = doors(tmp_path)["wamit"]
+    waves = {key: value for key, value in SEA.items() if key != "speed"}
+    motion = motion_from_config({"type": "manoeuvre", "speed": 3.0, "waves": {**waves, "rao": rao}},
+                                base_dir=tmp_path)
+    sea = motion.waves
+    assert sea.speed == 3.0 and "barge.4" in sea.rao.description
+    alone = motion_from_config({**SEA, "speed": 3.0, "rao": rao}, base_dir=tmp_path)
+    np.testing.assert_array_equal(sea.evaluate_many([5.0, 50.0]), alone.evaluate_many([5.0, 50.0]))
