@@ -13,10 +13,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from functools import partial
 from pathlib import Path
 from typing import ClassVar
+
+import numpy as np
 
 from towcable_fmu.errors import SceneError
 from towcable_fmu.schema import parse_variant, spec
@@ -25,8 +27,11 @@ from .base import CONFIG_DOF_NAMES, IS_ANGLE, MotionSource, StillShip
 from .irregular import DEFAULT_BAND, IrregularSea
 from .manoeuvre import Manoeuvre, Turn
 from .rao import FRIGATE, ClosedFormRao, Rao, RaoTable, ShipParticulars
+from .rao_files import mirrored, read_capytaine, read_orcaflex, read_wamit_4
 from .regular import Harmonic, RegularMotion
-from .spectrum import SPACINGS, Jonswap
+from .spectrum import SPACINGS, SPECTRA, Jonswap, OchiHubble, Spectrum
+from .spectrum_file import read_wavespectra
+from .spreading import Cos2s
 from .superposition import SuperposedMotion
 from .time_series import TimeSeriesMotion, read_motion_csv
 
@@ -55,6 +60,9 @@ DEFAULT_SEA: dict[str, object] = {
         "roll_damping": FRIGATE.roll_damping,
     },
 }
+
+#: Directions of a short-crested sea when ``directions`` is not given.
+DEFAULT_DIRECTIONS = 15
 
 #: :func:`~towcable_fmu.schema.spec` of a motion key: ranges written as intervals
 #: (``a finite number in [0, 20] m``).
@@ -164,10 +172,27 @@ class TimeSeriesTable:
     RULES: ClassVar[dict[str, str]] = {"initial_position": "only with the velocity format"}
 
 
+#: Values of ``[motion.rao] source``: where the RAOs come from.
+RAO_SOURCES: tuple[str, ...] = ("closed_form", "csv", "wamit", "orcaflex", "capytaine")
+#: The keys each RAO source takes besides ``source`` (and ``file`` for the files).
+RAO_SOURCE_KEYS: dict[str, tuple[str, ...]] = {
+    "closed_form": ("length", "beam", "draught", "block_coefficient", "roll_period", "roll_damping"),
+    "csv": ("file", "angle_unit", "symmetric"),
+    "wamit": ("file", "ulen", "first_column", "centre_of_gravity", "symmetric"),
+    "orcaflex": ("file", "vessel_type", "draught_name"),
+    "capytaine": ("file", "symmetric"),
+}
+
+
 @dataclass(frozen=True)
 class RaoConfig:
-    """Response amplitude operators: the hull particulars (closed form) or a file."""
+    """Response amplitude operators: the hull particulars (closed form) or a file of a hydrodynamic code."""
 
+    source: str | None = motion_spec(
+        None, choices=RAO_SOURCES, default_text='"csv" with file, else "closed_form"',
+        doc="where the RAOs come from: the closed-form hull, our CSV table, WAMIT's .4 file, an OrcaFlex vessel "
+            "type (text data file), a Capytaine dataset (netCDF; RAOs by capytaine.post_pro.rao); conventions in "
+            "ship_motion/README.md")
     length: float | None = motion_spec(None, gt=0.0, le=500.0, unit="m", default_text=f"{FRIGATE.length:g}",
                                        doc="length between perpendiculars")
     beam: float | None = motion_spec(None, gt=0.0, le=100.0, unit="m", default_text=f"{FRIGATE.beam:g}", doc="beam")
@@ -182,24 +207,45 @@ class RaoConfig:
                                              default_text=f"{FRIGATE.roll_damping:g}",
                                              doc="roll damping (fraction of critical)")
     file: str | None = motion_spec(
-        None, doc="RAO table: columns omega, heading, <dof>_amp, <dof>_phase; must cover the wave band and the heading")
+        None, doc="the RAO file (csv: columns omega, heading, <dof>_amp, <dof>_phase); must cover the wave band and "
+                  "the heading")
     angle_unit: str | None = motion_spec(None, choices=("deg", "rad"), default_text='"deg"',
-                                         doc="unit of the rotational amplitudes and of all phases in the RAO file")
+                                         doc="csv: unit of the rotational amplitudes and of all phases")
+    ulen: float | None = motion_spec(None, gt=0.0, le=1000.0, unit="m",
+                                     doc="wamit (required): WAMIT's length scale ULEN (in its .out file)")
+    first_column: str | None = motion_spec(None, choices=("period", "frequency"), default_text='"period"',
+                                           doc="wamit: the .4 file's first column, period [s] (IPEROUT = 1) or "
+                                               "frequency [rad/s] (IPEROUT = 2)")
+    centre_of_gravity: tuple[float, float, float] | None = motion_spec(
+        None, length=3, unit="m", doc="wamit (required): the CG in WAMIT's body coordinates (x forward, y port, z up)")
+    symmetric: bool | None = motion_spec(
+        None, default_text="false", doc="csv, wamit, capytaine: the hull is port-starboard symmetric, the headings "
+                                        "given are mirrored (sway, roll, yaw change sign)")
+    vessel_type: str | None = motion_spec(None, default_text="the only one",
+                                          doc="orcaflex: the vessel type's name")
+    draught_name: str | None = motion_spec(None, default_text="the only one", doc="orcaflex: the draught's name")
 
-    PARTICULARS: ClassVar[tuple[str, ...]] = ("length", "beam", "draught", "block_coefficient", "roll_period",
-                                              "roll_damping")
-    RULES: ClassVar[dict[str, str]] = {"file": "then no hull particulars", "angle_unit": "only with file"}
+    PARTICULARS: ClassVar[tuple[str, ...]] = RAO_SOURCE_KEYS["closed_form"]
+    RULES: ClassVar[dict[str, str]] = {"source": "each source takes its own keys (file required but for "
+                                                 "closed_form)"}
+
+    @property
+    def kind(self) -> str:
+        """The source: the key given, else csv with a file, else closed_form."""
+        return self.source or ("csv" if self.file is not None else "closed_form")
 
     def validate(self, path: str) -> None:
-        """Either the particulars (defaults: the frigate) or a file with its angle unit."""
-        if self.file is not None:
-            for name in self.PARTICULARS:
-                if getattr(self, name) is not None:
-                    raise SceneError(f"{path}.{name}", getattr(self, name), "one of the keys angle_unit, file "
-                                     "(an RAO file replaces the hull particulars)")
-        elif self.angle_unit is not None:
-            raise SceneError(f"{path}.angle_unit", self.angle_unit, "one of the keys " + ", ".join(self.PARTICULARS)
-                             + " (angle_unit only with file)")
+        """Only the keys of the source, and those it requires."""
+        allowed = RAO_SOURCE_KEYS[self.kind]
+        for name in (f.name for f in fields(self)):
+            if name != "source" and name not in allowed and getattr(self, name) is not None:
+                raise SceneError(f"{path}.{name}", getattr(self, name), f"with source = {self.kind!r}, one of "
+                                 "the keys " + ", ".join(allowed))
+        required = ("file",) if self.kind != "closed_form" else ()
+        required += ("ulen", "centre_of_gravity") if self.kind == "wamit" else ()
+        for name in required:
+            if getattr(self, name) is None:
+                raise SceneError(f"{path}.{name}", None, f"required with source = {self.kind!r}")
 
     def particulars(self) -> ShipParticulars:
         """The hull particulars given, the frigate's for the others."""
@@ -209,14 +255,41 @@ class RaoConfig:
 
 @dataclass(frozen=True)
 class IrregularTable:
-    """An irregular sea: JONSWAP spectrum through the ship's RAOs (IrregularSea)."""
+    """An irregular sea, long- or short-crested: a wave spectrum through the ship's RAOs (IrregularSea)."""
 
     KIND: ClassVar[str] = "irregular"
 
-    hs: float = motion_spec(DEFAULT_SEA["hs"], ge=0.0, le=20.0, unit="m", doc="significant wave height (JONSWAP)")
-    tp: float = motion_spec(DEFAULT_SEA["tp"], ge=2.0, le=30.0, unit="s", doc="peak period")
-    gamma: float = motion_spec(DEFAULT_SEA["gamma"], ge=1.0, le=10.0, unit="-",
-                               doc="peak enhancement factor (1: Pierson-Moskowitz)")
+    hs: float = motion_spec(DEFAULT_SEA["hs"], ge=0.0, le=20.0, unit="m",
+                            doc="significant wave height (ochi_hubble: of the wind sea)")
+    tp: float = motion_spec(DEFAULT_SEA["tp"], ge=2.0, le=30.0, unit="s",
+                            doc="peak period (ochi_hubble: of the wind sea)")
+    spectrum: str = motion_spec("jonswap", choices=SPECTRA,
+                                doc="wave spectrum: JONSWAP (hs, tp, gamma), Ochi-Hubble's two peaks (hs, tp, "
+                                    "shape: the wind sea; swell_hs, swell_tp, swell_shape: the swell) or a directional "
+                                    "spectrum file (spectrum_file, ship_heading; hs, tp, heading, components not used)")
+    gamma: float | None = motion_spec(None, ge=1.0, le=10.0, unit="-", default_text=f"{DEFAULT_SEA['gamma']:g}",
+                                      doc="jonswap: peak enhancement factor (1: Pierson-Moskowitz)")
+    shape: float | None = motion_spec(None, gt=0.0, le=20.0, unit="-", default_text="1",
+                                      doc="ochi_hubble: shape lambda of the wind sea (1: Pierson-Moskowitz)")
+    swell_hs: float | None = motion_spec(None, ge=0.0, le=20.0, unit="m",
+                                         doc="ochi_hubble (required): significant height of the swell")
+    swell_tp: float | None = motion_spec(None, ge=2.0, le=30.0, unit="s",
+                                         doc="ochi_hubble (required): peak period of the swell")
+    swell_shape: float | None = motion_spec(None, gt=0.0, le=20.0, unit="-", default_text="1",
+                                            doc="ochi_hubble: shape lambda of the swell")
+    spreading: float | None = motion_spec(
+        None, gt=0.0, le=100.0, unit="-", default_text="absent: long-crested",
+        doc="short-crested sea: exponent s of the cos-2s spreading about heading (wind sea 1-10, swell 15-75)")
+    directions: int | None = motion_spec(None, ge=1, le=360, unit="-", default_text="15 with spreading",
+                                         doc="number of directions of a short-crested sea (components each)")
+    spectrum_file: str | None = motion_spec(
+        None, doc="file (required): a directional spectrum E(f, theta) in wavespectra's netCDF format (efth "
+                  "[m^2/Hz/deg], freq [Hz], dir [deg] coming from, nautical), relative to the scene file's folder")
+    spectrum_record: int | None = motion_spec(None, ge=0, unit="-", default_text="the only one",
+                                              doc="file: index of the spectrum along the file's time (and site)")
+    ship_heading: float | None = motion_spec(
+        None, unit="deg", doc="file (required): compass heading of the ship's X axis, clockwise from north (the "
+                              "file's directions are nautical)")
     heading: float = motion_spec(
         DEFAULT_SEA["heading"], unit="deg",
         doc="direction the waves travel, from the ship's X axis counter-clockwise (180: head seas)")
@@ -239,20 +312,50 @@ class IrregularTable:
         RaoConfig(), default_text="the closed-form frigate below",
         doc="response amplitude operators: the hull particulars below (closed form), or a file")
 
-    RULES: ClassVar[dict[str, str]] = {"omega_max": "> omega_min"}
+    RULES: ClassVar[dict[str, str]] = {"omega_max": "> omega_min", "spectrum": "takes its own keys",
+                                       "directions": "only with spreading"}
 
     @property
     def band(self) -> tuple[float, float]:
-        """The wave band [rad/s]: the keys given, else the default band about the peak."""
-        peak = 2.0 * math.pi / self.tp
-        return (DEFAULT_BAND[0] * peak if self.omega_min is None else self.omega_min,
-                DEFAULT_BAND[1] * peak if self.omega_max is None else self.omega_max)
+        """The wave band [rad/s]: the keys given, else the default band about the peak (two peaks: from the
+        lower end about the swell's to the upper end about the wind sea's)."""
+        periods = (self.tp, self.swell_tp) if self.spectrum == "ochi_hubble" and self.swell_tp else (self.tp,)
+        return (DEFAULT_BAND[0] * 2.0 * math.pi / max(periods) if self.omega_min is None else self.omega_min,
+                DEFAULT_BAND[1] * 2.0 * math.pi / min(periods) if self.omega_max is None else self.omega_max)
 
     def validate(self, path: str) -> None:
         """A given omega_max lies above the band's lower end."""
         lo = self.band[0]
         if self.omega_max is not None and self.omega_max <= lo:
             raise SceneError(f"{path}.omega_max", self.omega_max, f"a finite number in ({lo:g}, 20] rad/s")
+        own = {"jonswap": ("gamma",), "ochi_hubble": ("shape", "swell_hs", "swell_tp", "swell_shape"),
+               "file": ("spectrum_file", "spectrum_record", "ship_heading")}
+        if self.spectrum == "file":
+            for name in ("spreading", "directions", "omega_min", "omega_max"):
+                if getattr(self, name) is not None:
+                    raise SceneError(f"{path}.{name}", getattr(self, name), "absent with spectrum = 'file' (the "
+                                     "file's frequencies and directions are the components)")
+            for name in ("spectrum_file", "ship_heading"):
+                if getattr(self, name) is None:
+                    raise SceneError(f"{path}.{name}", None, "required with spectrum = 'file'")
+        for kind, names in own.items():
+            for name in names:
+                if kind != self.spectrum and getattr(self, name) is not None:
+                    raise SceneError(f"{path}.{name}", getattr(self, name),
+                                     f"absent with spectrum = {self.spectrum!r} (a key of spectrum = {kind!r})")
+        if self.spectrum == "ochi_hubble":
+            for name in ("swell_hs", "swell_tp"):
+                if getattr(self, name) is None:
+                    raise SceneError(f"{path}.{name}", None, "required with spectrum = 'ochi_hubble'")
+        if self.directions is not None and self.spreading is None:
+            raise SceneError(f"{path}.directions", self.directions, "absent without spreading (a long-crested sea)")
+
+    def wave_spectrum(self) -> Spectrum:
+        """The spectrum the keys describe."""
+        if self.spectrum == "ochi_hubble":
+            return OchiHubble(self.hs, self.tp, self.shape or 1.0, self.swell_hs, self.swell_tp,
+                              self.swell_shape or 1.0)
+        return Jonswap(self.hs, self.tp, DEFAULT_SEA["gamma"] if self.gamma is None else self.gamma)
 
 
 @dataclass(frozen=True)
@@ -379,10 +482,20 @@ def _time_series(config: TimeSeriesTable, key: str, base_dir: Path | None) -> Ti
 
 
 def _rao(config: RaoConfig, key: str, base_dir: Path | None) -> Rao:
-    if config.file is not None:
-        return RaoTable.from_csv(_resolve(config.file, base_dir), angle_unit=config.angle_unit or "deg",
-                                 key=f"{key}.file")
-    return ClosedFormRao(config.particulars())
+    kind = config.kind
+    if kind == "closed_form":
+        return ClosedFormRao(config.particulars())
+    path, file_key = _resolve(config.file, base_dir), f"{key}.file"
+    if kind == "wamit":
+        return read_wamit_4(path, ulen=config.ulen, centre_of_gravity=config.centre_of_gravity,
+                            first_column=config.first_column or "period", symmetric=bool(config.symmetric),
+                            key=file_key)
+    if kind == "capytaine":
+        return read_capytaine(path, symmetric=bool(config.symmetric), key=file_key)
+    if kind == "orcaflex":
+        return read_orcaflex(path, vessel_type=config.vessel_type, draught=config.draught_name, key=file_key)
+    table = RaoTable.from_csv(path, angle_unit=config.angle_unit or "deg", key=file_key)
+    return mirrored(table) if config.symmetric else table
 
 
 def _irregular(config: IrregularTable, key: str, base_dir: Path | None,
@@ -391,6 +504,8 @@ def _irregular(config: IrregularTable, key: str, base_dir: Path | None,
     speed = config.speed if config.speed is not None else (
         DEFAULT_SEA["speed"] if default_speed is None else default_speed)
     rao = _rao(config.rao, f"{key}.rao", base_dir)
+    if config.spectrum == "file":
+        return _file_sea(config, rao, speed, key, base_dir)
     if isinstance(rao, RaoTable):
         lo, hi = rao.frequency_range
         rao_key = f"{key}.rao.file"
@@ -398,11 +513,35 @@ def _irregular(config: IrregularTable, key: str, base_dir: Path | None,
             raise SceneError(rao_key, rao.label, f"an RAO table covering the wave band "
                              f"[{omega_min:.4g}, {omega_max:.4g}] rad/s (it covers "
                              f"[{lo:g}, {hi:g}] rad/s; set omega_min/omega_max)")
-        if rao.heading_coordinate(math.radians(config.heading)) is None:
-            raise SceneError(rao_key, rao.label, f"an RAO table covering the heading {config.heading:g} deg")
-    return IrregularSea(Jonswap(config.hs, config.tp, config.gamma), rao, heading=math.radians(config.heading),
+        headings = [0.0] if config.spreading is None else np.degrees(
+            Cos2s(config.spreading).bin_weights(config.directions or DEFAULT_DIRECTIONS)[0])
+        for offset in headings:
+            if rao.heading_coordinate(math.radians(config.heading + offset)) is None:
+                raise SceneError(rao_key, rao.label, f"an RAO table covering the heading {config.heading + offset:g}"
+                                 " deg" + ("" if config.spreading is None else " (a direction of the spread sea; "
+                                           "symmetric = true mirrors a half range)"))
+    spreading = None if config.spreading is None else Cos2s(config.spreading)
+    return IrregularSea(config.wave_spectrum(), rao, heading=math.radians(config.heading),
                         speed=speed, components=config.components, omega_min=omega_min, omega_max=omega_max,
-                        spacing=config.spacing, seed=config.seed, ramp=config.ramp)
+                        spacing=config.spacing, seed=config.seed, ramp=config.ramp, spreading=spreading,
+                        directions=config.directions or DEFAULT_DIRECTIONS)
+
+
+def _file_sea(config: IrregularTable, rao: Rao, speed: float, key: str, base_dir: Path | None) -> IrregularSea:
+    spectrum = read_wavespectra(_resolve(config.spectrum_file, base_dir), record=config.spectrum_record,
+                                key=f"{key}.spectrum_file")
+    waves = spectrum.components(ship_heading=config.ship_heading, spacing=config.spacing, seed=config.seed)
+    if isinstance(rao, RaoTable):
+        lo, hi = rao.frequency_range
+        if waves.omega.min() < lo or waves.omega.max() > hi:
+            raise SceneError(f"{key}.rao.file", rao.label, f"an RAO table covering the spectrum file's frequencies "
+                             f"[{waves.omega.min():.4g}, {waves.omega.max():.4g}] rad/s (it covers [{lo:g}, {hi:g}])")
+        for mu in np.unique(waves.heading):
+            if rao.heading_coordinate(float(mu)) is None:
+                raise SceneError(f"{key}.rao.file", rao.label, f"an RAO table covering the heading "
+                                 f"{math.degrees(mu):g} deg (a direction of the spectrum file)")
+    return IrregularSea(spectrum, rao, heading=math.radians(config.heading), speed=speed, seed=config.seed,
+                        spacing=config.spacing, ramp=config.ramp, waves=waves)
 
 
 def _manoeuvre(config: ManoeuvreTable, key: str, base_dir: Path | None) -> MotionSource:

@@ -1,9 +1,10 @@
-"""Wave-induced ship motion in a long-crested irregular sea.
+"""Wave-induced ship motion in an irregular sea, long- or short-crested.
 
-The JONSWAP spectrum is cut into N harmonic components (:mod:`ship_motion.spectrum`),
-each passed through the ship's RAOs (:mod:`ship_motion.rao`) at its encounter
-frequency ``omega_e = omega - omega^2 U cos(mu) / g`` (speed U, heading mu, 180 deg =
-head seas). DOF j is
+The spectrum (JONSWAP, Ochi-Hubble: :mod:`ship_motion.spectrum`) is cut into N harmonic
+components, in a short-crested sea N for each of M directions of a cos-2s spreading
+(:mod:`ship_motion.spreading`); each is passed through the ship's RAOs
+(:mod:`ship_motion.rao`) at its own heading mu_i and its encounter frequency
+``omega_e = omega - omega^2 U cos(mu_i) / g`` (speed U, 180 deg = head seas). DOF j is
 
     q_j(t) = f(t) * Re sum_i a_i H_j(omega_i) exp(i (omega_e,i t + eps_i))
 
@@ -24,7 +25,8 @@ from towcable_fmu.kernel_cache import njit
 from .base import MotionSource, as_times
 from .ramp import modulate, ramp
 from .rao import GRAVITY, Rao
-from .spectrum import Jonswap, discretise
+from .spectrum import Spectrum, WaveComponents, discretise
+from .spreading import Cos2s, discretise_directional
 
 #: Default frequency band, as multiples of the peak frequency 2 pi / Tp.
 DEFAULT_BAND: tuple[float, float] = (0.5, 4.0)
@@ -131,7 +133,7 @@ def harmonic_state(t: float, table: np.ndarray, dofs: np.ndarray, ramp_time: flo
 
 
 class IrregularSea(MotionSource):
-    """Ship motion in a long-crested JONSWAP sea (module docstring).
+    """Ship motion in an irregular sea (module docstring).
 
     Parameters
     ----------
@@ -141,7 +143,7 @@ class IrregularSea(MotionSource):
         The ship's response amplitude operators.
     heading
         Wave heading mu relative to the ship [rad] (pi = head seas, 0 = following seas,
-        pi/2 = waves travelling towards port).
+        pi/2 = waves travelling towards port); the mean heading of a short-crested sea.
     speed
         Forward speed U [m/s] for the encounter frequency (and the RAO).
     components
@@ -154,12 +156,21 @@ class IrregularSea(MotionSource):
         Seed of the random phases and frequencies (reproducible).
     ramp
         Ramp-in time [s] of the response (C2 quintic step from t = 0); 0 for none.
+    spreading
+        Directional spreading of a short-crested sea; None: long-crested.
+    directions
+        Number M of directions of a short-crested sea (``components`` frequencies each).
+    waves
+        Wave components with their headings (from a directional spectrum file,
+        :mod:`ship_motion.spectrum_file`); then ``spectrum`` only names the sea and
+        ``components``, the band, ``spacing``, ``spreading`` and ``directions`` are not used.
     """
 
-    def __init__(self, spectrum: Jonswap, rao: Rao, *, heading: float, speed: float = 0.0,
+    def __init__(self, spectrum: Spectrum, rao: Rao, *, heading: float, speed: float = 0.0,
                  components: int = 200, omega_min: float | None = None,
                  omega_max: float | None = None, spacing: str = "random", seed: int = 0,
-                 ramp: float = 20.0) -> None:
+                 ramp: float = 20.0, spreading: Cos2s | None = None, directions: int = 1,
+                 waves: WaveComponents | None = None) -> None:
         if not (math.isfinite(speed) and speed >= 0.0):
             raise ValueError(f"speed must be finite and >= 0 m/s, got {speed}")
         if not (math.isfinite(ramp) and ramp >= 0.0):
@@ -174,15 +185,35 @@ class IrregularSea(MotionSource):
         self.ramp = float(ramp)
         self.seed = int(seed)
         self.spacing = spacing
+        #: Frequency components (per direction).
+        self.band_components = int(components)
         self.band = (DEFAULT_BAND[0] * peak if omega_min is None else float(omega_min),
                      DEFAULT_BAND[1] * peak if omega_max is None else float(omega_max))
-        self.waves = discretise(spectrum, components=components, omega_min=self.band[0],
-                                omega_max=self.band[1], spacing=spacing, seed=seed)
+        self.spreading = spreading
+        if waves is not None:
+            if waves.heading is None:
+                raise ValueError("waves given to IrregularSea need their headings")
+            self.waves, headings = waves, waves.heading
+            self.band = (float(waves.omega.min()), float(waves.omega.max()))
+            self.band_components = int(waves.omega.size)
+        elif spreading is None:
+            self.waves = discretise(spectrum, components=components, omega_min=self.band[0],
+                                    omega_max=self.band[1], spacing=spacing, seed=seed)
+            headings = np.full(self.waves.omega.size, self.heading)
+        else:
+            self.waves = discretise_directional(spectrum, spreading, mean_heading=self.heading,
+                                                directions=directions, components=components,
+                                                omega_min=self.band[0], omega_max=self.band[1],
+                                                spacing=spacing, seed=seed)
+            headings = self.waves.heading
         omega = self.waves.omega
         #: Encounter frequencies [rad/s], shape (N,).
-        self.encounter_frequency = omega - omega ** 2 * self.speed * math.cos(self.heading) / GRAVITY
-        #: Complex response amplitudes a_i H_j(omega_i), shape (N, 6).
-        self.response = self.waves.amplitude[:, None] * rao(omega, self.heading, self.speed)
+        self.encounter_frequency = omega - omega ** 2 * self.speed * np.cos(headings) / GRAVITY
+        #: Complex response amplitudes a_i H_j(omega_i, mu_i), shape (N, 6).
+        self.response = np.zeros((omega.size, 6), dtype=complex)
+        for mu in np.unique(headings):
+            at = headings == mu
+            self.response[at] = self.waves.amplitude[at, None] * rao(omega[at], float(mu), self.speed)
         # the table of harmonic_state: the columns with a response only (the closed-form RAO
         # has no surge, sway and yaw)
         self._dofs = np.flatnonzero(np.any(self.response != 0.0, axis=0)).astype(np.intp)
@@ -245,9 +276,15 @@ class IrregularSea(MotionSource):
 
     @property
     def description(self) -> str:
-        s = self.spectrum
-        return (f"irregular sea: JONSWAP Hs {s.hs:g} m, Tp {s.tp:g} s, gamma {s.gamma:g}; "
+        if self.waves.heading is None:
+            sea = "long-crested"
+        elif self.spreading is None:
+            sea = "short-crested (the file's directions)"
+        else:
+            sea = (f"short-crested (cos-2s, s {self.spreading.s:g}, {self.waves.omega.size // self.band_components} "
+                   "directions)")
+        return (f"irregular sea: {self.spectrum.description}, {sea}; "
                 f"heading {math.degrees(self.heading):g} deg (180 = head seas), "
-                f"speed {self.speed:g} m/s; {self.waves.omega.size} components in "
+                f"speed {self.speed:g} m/s; {self.band_components} components in "
                 f"[{self.band[0]:.3g}, {self.band[1]:.3g}] rad/s ({self.spacing}, seed {self.seed}); "
                 f"ramp {self.ramp:g} s; {self.rao.description}")

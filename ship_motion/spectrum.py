@@ -1,4 +1,4 @@
-"""JONSWAP wave spectrum and its discretisation into harmonic wave components.
+"""Wave spectra (JONSWAP, Ochi-Hubble) and their discretisation into harmonic wave components.
 
 Spectrum (DNV-RP-C205 section 3.5.5, omega in rad/s)::
 
@@ -10,6 +10,16 @@ Pierson-Moskowitz part alone integrates to Hs^2 / 16. The normalising factor C(g
 is computed by numerical quadrature so that the zeroth moment is exactly Hs^2 / 16
 (the common closed-form approximation 1 - 0.287 ln(gamma) is within 2 % of it
 for gamma <= 7).
+
+Ochi-Hubble two-peak spectrum (DNV-RP-C205 section 3.5.7; Ochi & Hubble 1976), the sum
+of two generalised Pierson-Moskowitz spectra j = 1, 2 (wind sea, swell) of significant
+heights H_j, peak frequencies omega_j = 2 pi / T_j and shape lambda_j::
+
+    S_j(omega) = 1/4 ((4 lambda_j + 1) / 4 omega_j^4)^lambda_j / Gamma(lambda_j) H_j^2 omega^-(4 lambda_j + 1)
+                 exp(-(4 lambda_j + 1) / 4 (omega_j / omega)^4)
+
+each with zeroth moment H_j^2 / 16 (lambda = 1: Pierson-Moskowitz), so the sea's
+Hs = sqrt(H_1^2 + H_2^2).
 
 Discretisation: [omega_min, omega_max] is cut into N bins of equal width. Each
 component takes the energy of its bin, amplitude ``a_i = sqrt(2 int_bin S domega)``
@@ -30,6 +40,9 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy.integrate import quad
+
+#: Values of ``[motion] spectrum``.
+SPECTRA: tuple[str, ...] = ("jonswap", "ochi_hubble", "file")
 
 #: Ways of placing component frequencies within their bins.
 SPACINGS: tuple[str, ...] = ("random", "equal")
@@ -55,8 +68,28 @@ def normalisation(gamma: float) -> float:
     return 1.0 / (16.0 * integral)
 
 
+class Spectrum:
+    """A wave spectrum: :meth:`density` S(omega) [m^2 s/rad], :attr:`peak_frequency` [rad/s]."""
+
+    def density(self, omega: ArrayLike) -> np.ndarray:
+        """Spectral density S(omega) [m^2 s/rad] at wave frequencies ``omega`` [rad/s]."""
+        raise NotImplementedError
+
+    @property
+    def peak_frequency(self) -> float:
+        """The frequency [rad/s] the default wave band is scaled by."""
+        raise NotImplementedError
+
+    def band_energy(self, lower: ArrayLike, upper: ArrayLike) -> np.ndarray:
+        """Integral of S over each [lower, upper] [m^2] (16-point Gauss-Legendre)."""
+        lo = np.asarray(lower, dtype=float)[..., None]
+        hi = np.asarray(upper, dtype=float)[..., None]
+        omega = 0.5 * (lo + hi) + 0.5 * (hi - lo) * _GAUSS_NODES
+        return 0.5 * (hi[..., 0] - lo[..., 0]) * (self.density(omega) @ _GAUSS_WEIGHTS)
+
+
 @dataclass(frozen=True)
-class Jonswap:
+class Jonswap(Spectrum):
     """JONSWAP spectrum (module docstring).
 
     Parameters
@@ -92,20 +125,74 @@ class Jonswap:
         x = np.asarray(omega, dtype=float) / wp
         return self.hs ** 2 / wp * normalisation(self.gamma) * _shape(x, self.gamma)
 
-    def band_energy(self, lower: ArrayLike, upper: ArrayLike) -> np.ndarray:
-        """Integral of S over each [lower, upper] [m^2] (16-point Gauss-Legendre)."""
-        lo = np.asarray(lower, dtype=float)[..., None]
-        hi = np.asarray(upper, dtype=float)[..., None]
-        omega = 0.5 * (lo + hi) + 0.5 * (hi - lo) * _GAUSS_NODES
-        return 0.5 * (hi[..., 0] - lo[..., 0]) * (self.density(omega) @ _GAUSS_WEIGHTS)
+    @property
+    def description(self) -> str:
+        """One line naming the spectrum and its parameters."""
+        return f"JONSWAP Hs {self.hs:g} m, Tp {self.tp:g} s, gamma {self.gamma:g}"
+
+
+@dataclass(frozen=True)
+class OchiHubble(Spectrum):
+    """Ochi-Hubble two-peak spectrum (module docstring).
+
+    Parameters
+    ----------
+    hs, tp, shape
+        Significant height [m] (>= 0), peak period [s] (> 0) and shape lambda [-] (> 0) of the
+        first part (the wind sea).
+    swell_hs, swell_tp, swell_shape
+        The same of the second part (the swell).
+    """
+
+    hs: float
+    tp: float
+    shape: float
+    swell_hs: float
+    swell_tp: float
+    swell_shape: float
+
+    def __post_init__(self) -> None:
+        for name, low in (("hs", -1.0), ("tp", 0.0), ("shape", 0.0), ("swell_hs", -1.0), ("swell_tp", 0.0),
+                          ("swell_shape", 0.0)):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and (value >= 0.0 if low < 0.0 else value > 0.0)):
+                raise ValueError(f"{name} must be finite and {'>= 0' if low < 0.0 else '> 0'}, got {value}")
+
+    @property
+    def peak_frequency(self) -> float:
+        """The lower of the two peak frequencies [rad/s]."""
+        return 2.0 * math.pi / max(self.tp, self.swell_tp)
+
+    @property
+    def significant_height(self) -> float:
+        """Hs = sqrt(H_1^2 + H_2^2) [m]."""
+        return math.hypot(self.hs, self.swell_hs)
+
+    def density(self, omega: ArrayLike) -> np.ndarray:
+        w = np.asarray(omega, dtype=float)
+        safe = np.where(w > 0.0, w, 1.0)
+        total = np.zeros_like(safe)
+        for h, tp, lam in ((self.hs, self.tp, self.shape), (self.swell_hs, self.swell_tp, self.swell_shape)):
+            c = (4.0 * lam + 1.0) / 4.0
+            x = 2.0 * math.pi / tp / safe
+            # the power law and exponential in logarithms: no overflow at small omega
+            log_part = lam * math.log(c) - math.lgamma(lam) + (4.0 * lam + 1.0) * np.log(x) - c * x ** 4
+            total += 0.25 * h * h * (tp / (2.0 * math.pi)) * np.exp(log_part)
+        return np.where(w > 0.0, total, 0.0)
+
+    @property
+    def description(self) -> str:
+        """One line naming the spectrum and its parameters."""
+        return (f"Ochi-Hubble wind sea Hs {self.hs:g} m, Tp {self.tp:g} s, lambda {self.shape:g}; swell Hs "
+                f"{self.swell_hs:g} m, Tp {self.swell_tp:g} s, lambda {self.swell_shape:g}")
 
 
 @dataclass(frozen=True)
 class WaveComponents:
-    """Harmonic components of a long-crested irregular sea.
+    """Harmonic components of an irregular sea.
 
     The elevation is ``eta(t) = sum_i amplitude_i cos(omega_i t + phase_i)`` (at a point
-    fixed in space).
+    fixed in space, the reference point of the phases).
 
     Parameters
     ----------
@@ -115,11 +202,15 @@ class WaveComponents:
         Amplitudes [m], shape (N,).
     phase
         Phases [rad], shape (N,).
+    heading
+        Direction of travel of each component [rad] relative to the ship, shape (N,);
+        None: a long-crested sea (all travel in the sea's heading).
     """
 
     omega: np.ndarray
     amplitude: np.ndarray
     phase: np.ndarray
+    heading: np.ndarray | None = None
 
     @property
     def variance(self) -> float:
@@ -127,7 +218,18 @@ class WaveComponents:
         return float(np.sum(self.amplitude ** 2) / 2.0)
 
 
-def discretise(spectrum: Jonswap, *, components: int, omega_min: float, omega_max: float,
+def check_band(components: int, omega_min: float, omega_max: float, spacing: str) -> None:
+    """Raise ValueError unless components >= 1, 0 < omega_min < omega_max [rad/s] and spacing is one of
+    :data:`SPACINGS`."""
+    if components < 1:
+        raise ValueError(f"components must be >= 1, got {components}")
+    if not 0.0 < omega_min < omega_max:
+        raise ValueError(f"need 0 < omega_min < omega_max, got {omega_min}, {omega_max}")
+    if spacing not in SPACINGS:
+        raise ValueError(f"spacing must be one of {SPACINGS}, got {spacing!r}")
+
+
+def discretise(spectrum: Spectrum, *, components: int, omega_min: float, omega_max: float,
                spacing: str = "random", seed: int = 0) -> WaveComponents:
     """Cut the spectrum into harmonic components (module docstring).
 
@@ -148,12 +250,7 @@ def discretise(spectrum: Jonswap, *, components: int, omega_min: float, omega_ma
     -------
     WaveComponents
     """
-    if components < 1:
-        raise ValueError(f"components must be >= 1, got {components}")
-    if not 0.0 < omega_min < omega_max:
-        raise ValueError(f"need 0 < omega_min < omega_max, got {omega_min}, {omega_max}")
-    if spacing not in SPACINGS:
-        raise ValueError(f"spacing must be one of {SPACINGS}, got {spacing!r}")
+    check_band(components, omega_min, omega_max, spacing)
     edges = np.linspace(omega_min, omega_max, components + 1)
     rng = np.random.default_rng(seed)
     phase = rng.uniform(0.0, 2.0 * math.pi, components)

@@ -88,6 +88,36 @@ def test_ship_motion_fmu_outputs_the_source_at_the_end_of_each_step(fmu_paths):
     fmu.free()
 
 
+def test_ship_motion_fmu_reads_an_rao_file_through_motion_config(fmu_paths):
+    """motion.config naming a TOML file whose [motion.rao] is a Capytaine dataset (the worked
+    example's short-crested sea): the FMU outputs that source; a missing RAO file is an error
+    naming motion.rao.file."""
+    pytest.importorskip("capytaine")
+    import tomllib
+    from pathlib import Path
+
+    from ship_motion import motion_from_config
+
+    scene = Path(__file__).resolve().parents[1] / "docs" / "examples" / "capytaine_barge" / "barge_sea.toml"
+    fmu = open_fmu(fmu_paths, "ShipMotion", {"motion.config": str(scene)})
+    fmu.exit_initialization()
+    source = motion_from_config(tomllib.loads(scene.read_text())["motion"], base_dir=scene.parent)
+    t = 0.0
+    for dt in (0.1, 0.25):
+        fmu.fmu.doStep(t, dt)
+        t += dt
+    assert list(outputs(fmu).values()) == source.evaluate(t).ravel().tolist()
+    fmu.free()
+    text = scene.read_text().replace("barge_capytaine.nc", "missing.nc")
+    fmu = open_fmu(fmu_paths, "ShipMotion", {})
+    mark = len(fmu.messages)
+    with pytest.raises(FMICallException) as info:
+        fmu.set_parameters({"motion.config": text})
+        fmu.fmu.exitInitializationMode()
+    assert info.value.status == ERROR and "motion.rao.file" in fmu.log_text(mark)
+    fmu.free()
+
+
 def test_heave_compensation_fmu_is_setpoint_algorithm_with_direct_feedthrough(fmu_paths):
     from controllers import SetpointAlgorithm, SetpointConfig
 
