@@ -33,10 +33,13 @@ only our sweep runs. Writes ``results/snapping.md`` and ``results/snapping_work_
 from __future__ import annotations
 
 import argparse
+import hashlib
 import math
+import os
 import statistics
 import sys
 import time
+from importlib import metadata
 from pathlib import Path
 
 import numpy as np
@@ -104,6 +107,11 @@ faster run of a smaller error (max of series and Tmax) against the common refere
 fronts' runs below 2 % and each code's fastest within 1 % are timed three times (median).
 """.replace("\n", " ").strip()
 
+#: the peers' runs (their series do not change between sessions) are kept here, keyed by the peer's
+#: version and the setting; a cached run's timing is never reported: the runs whose speed the
+#: report shows (the fronts, each code's fastest within 1 %) are timed again in the session
+PEER_CACHE = Path(os.environ.get("TOWCABLE_BENCH_CACHE", Path.home() / ".cache" / "towcable_bench")) / "snapping"
+
 #: the former benchmark's matched MoorDyn set-up, kept for benchmarks/bounds.py
 MATCHED = (20, 0.0002)
 
@@ -148,6 +156,23 @@ def ours_run(frequency: float, scene: str, integrator: str, elements: int, time_
         return {**res, "failed": "non-finite tension", "wall_time_s": wall}
     return {**res, "time": np.asarray(series["time"]), "tension_top": tension, "wall_time_s": wall,
             "Tmax_over_T0": float(tension.max() / t0)}
+
+
+def cached_peer(code: str, frequency: float, setting: tuple, run) -> dict:
+    """``run()`` (a peer's run: its result dict), or its result kept in PEER_CACHE from an
+    earlier session (marked ``cached``: its wall time is not this session's)."""
+    version = metadata.version("moordyn" if code == "MoorDyn" else "exudyn")
+    key = hashlib.sha256(repr((code, version, frequency, setting, DURATION)).encode()).hexdigest()[:24]
+    path = PEER_CACHE / f"{key}.npz"
+    if path.exists():
+        with np.load(path, allow_pickle=False) as data:
+            res = {k: data[k].item() if data[k].ndim == 0 else data[k] for k in data.files}
+        res.update({"code": code, "frequency_hz": frequency, "setting": setting, "cached": True})
+        return res
+    res = run()
+    PEER_CACHE.mkdir(parents=True, exist_ok=True)
+    np.savez(path, **{k: v for k, v in res.items() if k not in ("code", "frequency_hz", "setting")})
+    return res
 
 
 def moordyn_run(frequency: float, scheme: str, segments: int, time_step: float, **keywords) -> dict:
@@ -244,7 +269,7 @@ class Sweep:
         res["kind"] = kind
         res["series_own"], res["tmax_own"] = errors(res, own)
         res["series_common"], res["tmax_common"] = errors(res, self.common)
-        res["walls"] = [res["wall_time_s"]]
+        res["walls"] = [] if res.get("cached") else [res["wall_time_s"]]
         res["redo"] = redo
         self.runs.append(res)
         state = res.get("failed") or (f"series {100 * res['series_own']:.2f} % own, "
@@ -253,10 +278,11 @@ class Sweep:
         print(f"  {self.frequency} Hz {kind} {res['setting']}: {state}, {res['wall_time_s']:.2f} s", file=sys.stderr)
         return res
 
-    def ladder(self, kind: str, own: dict, settings, run) -> None:
-        """Run ``settings`` (largest step first) until one is within 1 % of both references."""
+    def ladder(self, kind: str, own: dict, settings, run, fresh=None) -> None:
+        """Run ``settings`` (largest step first) until one is within 1 % of both references;
+        ``fresh`` (default ``run``) runs a setting again for its timing (``run`` may be cached)."""
         for setting in settings:
-            res = self.add(kind, run(*setting), own, lambda s=setting: run(*s))
+            res = self.add(kind, run(*setting), own, lambda s=setting: (fresh or run)(*s))
             if within(res, "own") and within(res, "common"):
                 break
 
@@ -310,6 +336,8 @@ def moordyn_sweep(sweep: Sweep, quick: bool) -> None:
                 if (n + 1) * DURATION / dt <= MOORDYN_MAX_WORK:
                     steps.append((scheme, n, dt))
             sweep.ladder(f"MoorDyn {scheme}", sweep.common, steps,
+                         lambda s, n, dt: cached_peer("MoorDyn", sweep.frequency, (s, n, dt),
+                                                      lambda: moordyn_run(sweep.frequency, s, n, dt)),
                          lambda s, n, dt: moordyn_run(sweep.frequency, s, n, dt))
 
 
@@ -319,8 +347,8 @@ def moordyn_ab_defect(frequency: float) -> dict:
     approach RK4's as the step shrinks."""
     out = {}
     for scheme in ("AB2", "AB3", "RK4"):
-        res = moordyn_run(frequency, scheme, 10, 2e-5)
-        out[scheme] = res
+        out[scheme] = cached_peer("MoorDyn", frequency, (scheme, 10, 2e-5),
+                                  lambda s=scheme: moordyn_run(frequency, s, 10, 2e-5))
     return out
 
 
@@ -343,10 +371,13 @@ def our_sweep(sweep: Sweep, kind: str, quick: bool) -> None:
 
 def exudyn_sweep(sweep: Sweep, quick: bool) -> None:
     """Exudyn over elements and steps."""
-    own = exudyn_run(sweep.frequency, *EXUDYN_REFERENCE)
+    own = cached_peer("Exudyn", sweep.frequency, ("genalpha",) + EXUDYN_REFERENCE,
+                      lambda: exudyn_run(sweep.frequency, *EXUDYN_REFERENCE))
     sweep.add("Exudyn (reference)", own, own, lambda: exudyn_run(sweep.frequency, *EXUDYN_REFERENCE))
     for n in (EXUDYN_ELEMENTS[1::2] if quick else EXUDYN_ELEMENTS):
         sweep.ladder("Exudyn", own, [(n, dt) for dt in EXUDYN_STEPS],
+                     lambda n, dt: cached_peer("Exudyn", sweep.frequency, ("genalpha", n, dt),
+                                               lambda: exudyn_run(sweep.frequency, n, dt)),
                      lambda n, dt: exudyn_run(sweep.frequency, n, dt))
 
 
@@ -355,15 +386,25 @@ def main(argv: list[str] | None = None) -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--quick", action="store_true", help="one frequency (1.27 Hz), fewer settings")
     p.add_argument("--no-exudyn", action="store_true", help="leave Exudyn out (its runs are the slowest)")
+    p.add_argument("--peers-only", action="store_true",
+                   help="only fill the peers' cache (PEER_CACHE; no report): their sweeps take most of the time")
     args = p.parse_args(argv)
     available = peers_available()
     if not available["MoorDyn"]:
         raise SystemExit("the common reference is MoorDyn's converged run: pip install '.[bench]'")
+    if args.peers_only:
+        for f in FREQUENCIES[:1] if args.quick else FREQUENCIES:
+            sweep = Sweep(f, cached_peer("MoorDyn", f, MOORDYN_REFERENCE, lambda f=f: moordyn_run(f, *MOORDYN_REFERENCE)))
+            moordyn_sweep(sweep, args.quick)
+            if available["Exudyn"] and not args.no_exudyn:
+                exudyn_sweep(sweep, args.quick)
+            moordyn_ab_defect(f)
+        return
     kinds = [k for k in OURS if OURS[k][1] in integrators_available()]
     started = time.perf_counter()
     sweeps, defects = [], {}
     for f in FREQUENCIES[:1] if args.quick else FREQUENCIES:
-        common = moordyn_run(f, *MOORDYN_REFERENCE)
+        common = cached_peer("MoorDyn", f, MOORDYN_REFERENCE, lambda f=f: moordyn_run(f, *MOORDYN_REFERENCE))
         sweep = Sweep(f, common)
         sweep.add("MoorDyn RK4 (reference)", common, common, lambda f=f: moordyn_run(f, *MOORDYN_REFERENCE))
         for kind in kinds:

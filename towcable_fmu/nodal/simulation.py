@@ -115,8 +115,7 @@ class NodalSimulation(SimulationDriver):
         if self._lumped is None:
             ok = accelerations(m, st.q, st.v, st.x, t0, st.stats)
         else:  # the leapfrog's own accelerations: lumped masses
-            lumped_accelerations(m, self._lumped, st.q, st.v, t0, np.zeros(st.q.size), np.empty(st.q.size),
-                                 np.empty((m.n_nodes, 6)), st.x)
+            lumped_accelerations(m, self._lumped, st.q, st.v, np.empty(st.q.size), np.zeros((m.n_nodes, 6)), st.x)
             ok = bool(np.all(np.isfinite(st.x)))
         if not ok:
             raise SolverError("the initial state has no finite acceleration")
