@@ -16,7 +16,8 @@ Each code is swept over its own choices:
 * Exudyn: elements and steps (its generalised-alpha);
 * ours: every model kind and integrator (ANCF generalised-alpha; nodal-position
   generalised-alpha, RK4 and, where the scene schema offers it, the explicit "leapfrog"),
-  elements and steps.
+  elements and steps (the leapfrog: 2-40 elements at 1, 0.7 and 0.5 times the largest
+  step it allows on the mesh).
 
 A run is *within 1 %* when its series error and its Tmax/T0 error are both at most 1 %,
 against the code's own converged run (its finest setting) and against the common
@@ -25,7 +26,8 @@ reference, MoorDyn's converged run (80 segments, RK4, 0.02 ms). Every run is tim
 with a smaller error against the common reference) are timed twice more and carry the
 median of 3.
 
-Run: ``python benchmarks/snapping.py`` (about 20 minutes; ``--quick``: one frequency,
+Run: ``python benchmarks/snapping.py`` (about 45 minutes on a shared 2-core machine, 20 once
+the peers' runs are cached, ``--peers-only`` fills the cache; ``--quick``: one frequency,
 fewer settings, a few minutes). The peers need ``pip install ".[bench]"``: without them
 only our sweep runs. Writes ``results/snapping.md`` and ``results/snapping_work_precision.png``.
 """
@@ -80,9 +82,11 @@ OURS = {
     "ANCF genalpha": ("snapping_cable", "genalpha", (5, 8, 12, 16, 20), OUR_STEPS, 2),
     "nodal genalpha": ("snapping_cable_nodal", "genalpha", (5, 10, 20), OUR_STEPS, 2),
     "nodal rk4": ("snapping_cable_nodal", "rk4", (2, 5, 10), (2e-3, 1e-3, 5e-4, 3.5e-4), 2),
-    "nodal leapfrog": ("snapping_cable_nodal", "leapfrog", (2, 3, 5, 10, 20, 40),
-                       OUR_STEPS + (1.8e-4, 1.25e-4, 9e-5, 6e-5), 2),
+    "nodal leapfrog": ("snapping_cable_nodal", "leapfrog", (2, 3, 4, 5, 6, 8, 10, 12, 14, 16, 20, 24, 30, 40), None, 2),
 }
+#: the explicit kind's steps (``None`` above): these fractions of the mesh's largest allowed step
+#: (``Scene.explicit_step``: 0.9 times the stability limit)
+EXPLICIT_FRACTIONS = (1.0, 0.7, 0.5)
 #: each of our kinds' own converged run: (kind, elements, step [s], integration points); the
 #: nodal RK4 shares the nodal generalised-alpha's (the same model; RK4 at 40 elements would
 #: need hours)
@@ -104,7 +108,10 @@ over every working 2.7 scheme, 2-40 segments and steps from 4 l/c down to the fi
 Exudyn (generalised-alpha) over elements and steps; ours over every model kind and
 integrator the scene schema offers, elements and steps. Each code's front: its runs with no
 faster run of a smaller error (max of series and Tmax) against the common reference; the
-fronts' runs below 2 % and each code's fastest within 1 % are timed three times (median).
+fronts' runs below 2 % and each code's fastest within 1 % are timed three times (median). The
+peers' runs may come from a cache of earlier sessions (their series do not change): a cached
+run's timing is never shown in the tables (those runs are timed again in this session), only
+as a faint point of the plot.
 """.replace("\n", " ").strip()
 
 #: the peers' runs (their series do not change between sessions) are kept here, keyed by the peer's
@@ -136,15 +143,14 @@ def ours_run(frequency: float, scene: str, integrator: str, elements: int, time_
     from towcable_fmu.scene import load_scene
 
     common = {"cable.segments[0].elements": elements, "cable.segments[0].integration_points": points,
-              **(overrides or {})}
+              "solver.time_step": time_step, "solver.integrator": integrator, **(overrides or {})}
     still = simulation_for(load_scene(scene, {"motion": {"type": "none"}, **common}))
     still.initialize()
     t0 = still.outputs()["tension.top"]  # the static tension, before the abrupt start
     res = {"code": "towcable", "frequency_hz": frequency, "setting": (integrator, elements, time_step, points),
            "T0": t0, "scene": scene, "overrides": overrides or {}}
     try:
-        sim = simulation_for(load_scene(scene, {"motion.heave.period": 1.0 / frequency, "solver.time_step": time_step,
-                                                "solver.integrator": integrator, **common}))
+        sim = simulation_for(load_scene(scene, {"motion.heave.period": 1.0 / frequency, **common}))
         sim.initialize()
         start = time.perf_counter()
         series = sim.run(DURATION, interval=5e-4)  # samples as the peers take them
@@ -365,8 +371,18 @@ def our_sweep(sweep: Sweep, kind: str, quick: bool) -> None:
     if quick:
         element_counts = element_counts[1::2]
     for n in element_counts:
-        sweep.ladder(kind, own, [(n, dt) for dt in steps],
+        ladder = explicit_steps(scene, n) if steps is None else steps
+        sweep.ladder(kind, own, [(n, dt) for dt in ladder],
                      lambda n, dt: ours_run(sweep.frequency, scene, integrator, n, dt, points))
+
+
+def explicit_steps(scene: str, elements: int) -> tuple[float, ...]:
+    """EXPLICIT_FRACTIONS of the largest step the explicit path allows on ``elements``
+    elements [s], rounded down to 0.1 us."""
+    from towcable_fmu.scene import load_scene
+
+    limit = load_scene(scene, {"cable.segments[0].elements": elements, "solver.integrator": "genalpha"}).explicit_step()
+    return tuple(math.floor(f * limit * 1e7) / 1e7 for f in EXPLICIT_FRACTIONS)
 
 
 def exudyn_sweep(sweep: Sweep, quick: bool) -> None:

@@ -37,7 +37,7 @@ import numpy as np
 from ..kernel_cache import njit
 from ..hydro.cable import drag
 from ..hydro.loading import NORMAL_TANGENTIAL
-from .element import _G0, _G1
+from .element import _G0, _G1, _add_pair
 from .model import NodalModel
 
 # columns of the element table (one row per element)
@@ -219,13 +219,7 @@ def cable_forces(n_nodes: int, wet: bool, body_on: bool, closed: bool, water: tu
                                      my - ((1.0 - xi) * v[i + 1] + xi * v[i + 4]),
                                      mz - ((1.0 - xi) * v[i + 2] + xi * v[i + 5]), mx, my, mz, ux, uy, uz)
             pw += hydro[e, _BUOYANCY]
-            c0, c1 = elements[e, _HALF_L0] * (1.0 - xi), elements[e, _HALF_L0] * xi
-            f[i] += c0 * px
-            f[i + 1] += c0 * py
-            f[i + 2] += c0 * pw
-            f[i + 3] += c1 * px
-            f[i + 4] += c1 * py
-            f[i + 5] += c1 * pw
+            _add_pair(f, i, px, py, pw, elements[e, _HALF_L0] * (1.0 - xi), elements[e, _HALF_L0] * xi)
         if w0 + w1 > 0.0:
             _add_normal_mass(added, e, w0 * elements[e, _ADDED], ux, uy, uz)
             _add_normal_mass(added, e + 1, w1 * elements[e, _ADDED], ux, uy, uz)
