@@ -100,7 +100,9 @@ DESCRIPTION = """
 The case: `benchmarks/peers/snapping_case.py`; our scenes `snapping_cable` (ANCF) and
 `snapping_cable_nodal`, both on the case's laws (Kelvin-Voigt axial force, MoorDyn's drag
 convention). 15 s simulated; wall time of the time stepping (statics excluded), one process
-at a time. Errors: *series* = RMS of (T - T_ref)/T0 over 0.05-5 s, *Tmax* = |Tmax/T0 / ref - 1|,
+at a time. Samples of every code every k-th step, k = max(1, round(0.5 ms / step)) (the
+rule of MoorDyn's harness, `snapping_case.sample_interval`: a step above 0.5 ms is sampled
+at every step). Errors: *series* = RMS of (T - T_ref)/T0 over 0.05-5 s, *Tmax* = |Tmax/T0 / ref - 1|,
 against the code's own converged run (*own*) and against MoorDyn's converged run (80
 segments, RK4, 0.02 ms; *common*). A run is within 1 % when both errors are. Sweeps: MoorDyn
 over every working 2.7 scheme, 2-40 segments and steps from 4 l/c down to the first within
@@ -153,7 +155,7 @@ def ours_run(frequency: float, scene: str, integrator: str, elements: int, time_
         sim = simulation_for(load_scene(scene, {"motion.heave.period": 1.0 / frequency, **common}))
         sim.initialize()
         start = time.perf_counter()
-        series = sim.run(DURATION, interval=5e-4)  # samples as the peers take them
+        series = sim.run(DURATION, interval=case.sample_interval(time_step)[1])  # as MoorDyn's harness samples
         wall = time.perf_counter() - start
     except Exception as exc:  # noqa: BLE001 - a failed setting is a result of the sweep
         return {**res, "failed": f"{type(exc).__name__}: {exc}", "wall_time_s": math.nan}
