@@ -40,7 +40,7 @@ def _simulation(frequency: float, elements: int, step: float | None):
 
     overrides = {"motion.heave.period": 1.0 / frequency, "cable.segments[0].elements": elements}
     if step is None:
-        step = load_scene("snapping_cable_nodal", overrides).explicit_step()
+        step = load_scene("snapping_cable_nodal", {**overrides, "solver.integrator": "genalpha"}).explicit_step()
     return NodalSimulation.from_scene("snapping_cable_nodal", {**overrides, "solver.time_step": step})
 
 
