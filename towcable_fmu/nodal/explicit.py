@@ -7,8 +7,9 @@
   only, as :func:`towcable_fmu.hydro.cable.point_load` applies it), the body's added mass
   rho V C_m,b (its submerged fraction) to the last node. The 3x3 mass of a node is refreshed
   at every step (the added mass follows the elements' directions) and solved in closed form.
-* Forces: the nodal residual (:func:`towcable_fmu.nodal.assembly.cable_residual`, the same
-  element and body laws as the implicit path) at zero acceleration, once per step.
+* Forces: :func:`towcable_fmu.nodal.explicit_kernel.cable_forces`, once per step: the
+  implicit path's element and body laws (its residual at zero acceleration, tested), with
+  the model's constants read once per call and nothing allocated per step.
 * Leapfrog, kick-drift-kick: v += h/2 a; q += h v; a = M^-1 F(q, v); v += h/2 a. The
   velocity-dependent forces (material damping, drag on cable and body) see the half-step
   velocity v_{n+1/2} = (q_{n+1} - q_n)/h: first order in h in the damping, one force
@@ -32,11 +33,9 @@ import math
 import numpy as np
 
 from ..kernel_cache import njit
-from ..hydro.towbody import submerged
-from .assembly import cable_residual
-from .element import _G0, _G1
+from .explicit_kernel import cable_forces, explicit_outputs, lumped_cable, lumped_forces, solve_accelerations
 from .integrators import (CLOCK_TIME, STAT_RESIDUALS, STAT_STEPS, Interpolant, NodalOptions, NodalState,
-                          prescribe_top, record_sample)
+                          interpolate_step, prescribe_top_with)
 from .model import NodalModel
 
 
@@ -52,64 +51,14 @@ def node_masses(m: NodalModel) -> np.ndarray:
 
 
 @njit(cache=True, error_model="numpy")
-def lumped_accelerations(m: NodalModel, mass: np.ndarray, q: np.ndarray, v: np.ndarray, t: float,
-                         zero: np.ndarray, r: np.ndarray, added: np.ndarray, a: np.ndarray) -> None:
+def lumped_accelerations(m: NodalModel, mass: np.ndarray, q: np.ndarray, v: np.ndarray, f: np.ndarray,
+                         added: np.ndarray, a: np.ndarray) -> None:
     """Accelerations [m/s^2] of the free nodes into ``a`` (node 0's entries kept): the forces
-    at positions ``q`` [m] and velocities ``v`` [m/s] through the lumped masses ``mass`` [kg]
-    (:func:`node_masses`) and the cable's and body's added masses.
-
-    ``zero`` (zeros, q.size), ``r`` (q.size) and ``added`` (n_nodes, 6) are scratch.
-    """
-    cable_residual(m, q, v, zero, t, r)  # minus the forces (no inertia at a = 0)
-    n_nodes = m.n_nodes
-    added[:, :] = 0.0
-    w = m.water
-    if w.enabled:
-        for e in range(n_nodes - 1):
-            i = 3 * e
-            s0, s1 = 0.0, 0.0  # row sums of the element's quadrature, submerged points only
-            for g in range(2):
-                xi = _G0 if g == 0 else _G1
-                if (1.0 - xi) * q[i + 2] + xi * q[i + 5] < w.surface_z:
-                    s0 += 0.5 * (1.0 - xi)
-                    s1 += 0.5 * xi
-            if s0 + s1 == 0.0:
-                continue
-            dx, dy, dz = q[i + 3] - q[i], q[i + 4] - q[i + 1], q[i + 5] - q[i + 2]
-            inv2 = 1.0 / (dx * dx + dy * dy + dz * dz)
-            c = m.cm[e] * w.density * m.area[e] * m.L0[e]
-            _add_normal(added[e], c * s0 * inv2, dx, dy, dz, c * s0)
-            _add_normal(added[e + 1], c * s1 * inv2, dx, dy, dz, c * s1)
-        if m.body.enabled:
-            last = n_nodes - 1
-            wet = submerged(w, m.body, q[3 * last + 2])
-            for k in range(3):
-                added[last, k] += wet * m.body.added_mass[k]
-    for node in range(1, n_nodes):
-        i = 3 * node
-        p = added[node]
-        xx, yy, zz = mass[node] + p[0], mass[node] + p[1], mass[node] + p[2]
-        xy, xz, yz = p[3], p[4], p[5]
-        # the symmetric 3x3 inverse by cofactors (positive definite: mass plus a semi-definite part)
-        c00, c11, c22 = yy * zz - yz * yz, xx * zz - xz * xz, xx * yy - xy * xy
-        c01, c02, c12 = xz * yz - xy * zz, xy * yz - xz * yy, xy * xz - xx * yz
-        inv_det = 1.0 / (xx * c00 + xy * c01 + xz * c02)
-        fx, fy, fz = -r[i], -r[i + 1], -r[i + 2]
-        a[i] = (c00 * fx + c01 * fy + c02 * fz) * inv_det
-        a[i + 1] = (c01 * fx + c11 * fy + c12 * fz) * inv_det
-        a[i + 2] = (c02 * fx + c12 * fy + c22 * fz) * inv_det
-
-
-@njit(cache=True, inline="always")
-def _add_normal(p: np.ndarray, k2: float, dx: float, dy: float, dz: float, k: float) -> None:
-    """Add k (I - d d^T / |d|^2) [kg] to a node's symmetric 3x3 ``p`` (xx, yy, zz, xy, xz, yz);
-    ``k2`` = k / |d|^2."""
-    p[0] += k - k2 * dx * dx
-    p[1] += k - k2 * dy * dy
-    p[2] += k - k2 * dz * dz
-    p[3] -= k2 * dx * dy
-    p[4] -= k2 * dx * dz
-    p[5] -= k2 * dy * dz
+    at positions ``q`` [m] and velocities ``v`` [m/s] (:func:`.explicit_kernel.cable_forces`)
+    through the lumped masses ``mass`` [kg] (:func:`node_masses`) and the cable's and body's
+    added masses. ``f`` (q.size) and ``added`` (n_nodes, 6) are scratch."""
+    lumped_forces(m, mass, q, v, f, added)
+    solve_accelerations(m.water.enabled, mass, 1.0 / mass, f, added, a)
 
 
 # error_model "numpy": a division by zero gives inf or NaN (the run stops at a non-finite
@@ -123,6 +72,8 @@ def leapfrog_recording(m: NodalModel, mass: np.ndarray, options: NodalOptions, s
     :func:`~towcable_fmu.nodal.integrators.advance_recording` (landing on every sample, or with
     ``interpolate`` keeping the steps, never passing ``t_land`` [s], and reading samples inside
     a step from the cubic Hermite interpolant of its ends). ``mass``: :func:`node_masses`.
+    The constants are read out of ``m`` once (:func:`.explicit_kernel.lumped_cable`) and
+    nothing is allocated in the loop.
 
     Returns
     -------
@@ -132,9 +83,15 @@ def leapfrog_recording(m: NodalModel, mass: np.ndarray, options: NodalOptions, s
     """
     q, v, a, clock, stats = state.q, state.v, state.x, state.clock, state.stats
     n = q.size
-    zero = np.zeros(n)
-    r = np.empty(n)
-    added = np.empty((m.n_nodes, 6))
+    c = lumped_cable(m, mass)
+    n_nodes, wet, body_on, closed, water = c.n_nodes, c.wet, c.body_on, c.closed, c.water
+    gravity, end_mass = c.gravity, c.end_mass
+    elements, hydro, kind, flow, body, inv_mass = c.elements, c.hydro, c.kind, c.flow, c.body, c.inv_mass
+    f = np.empty(n)
+    added = np.zeros((n_nodes, 6))
+    ship, basis = np.empty((3, 6)), np.empty((6, 3))
+    on_ship, top_point = m.top_on_ship, m.top_point
+    start, state_t, t0 = ip.start, ip.state, ip.t0
     h_nom = options.h_max
     for s in range(samples.size):
         target = samples[s]
@@ -149,19 +106,35 @@ def leapfrog_recording(m: NodalModel, mass: np.ndarray, options: NodalOptions, s
             else:
                 h = min(h, target - t)
             if t + h > target + tol:  # the sample falls inside this step: keep its start
-                ip.start[0, :], ip.start[1, :], ip.start[2, :] = q, v, a
-                ip.t0[0] = t
+                for i in range(n):
+                    start[0, i], start[1, i], start[2, i] = q[i], v[i], a[i]
+                t0[0] = t
             half = 0.5 * h
             for i in range(3, n):
                 v[i] += half * a[i]
                 q[i] += h * v[i]
-            prescribe_top(m, drive_t, drive_x, t + h, q, v, a)
-            lumped_accelerations(m, mass, q, v, t + h, zero, r, added, a)
+            prescribe_top_with(on_ship, top_point, drive_t, drive_x, t + h, q, v, a, ship, basis)
+            if closed:  # (two copies of the loop: the closed-form drag's has no call)
+                cable_forces(n_nodes, wet, body_on, True, water, gravity, end_mass, elements, hydro, kind, flow, body,
+                             q, v, f, added)
+            else:
+                cable_forces(n_nodes, wet, body_on, False, water, gravity, end_mass, elements, hydro, kind, flow,
+                             body, q, v, f, added)
+            solve_accelerations(wet, mass, inv_mass, f, added, a)
             for i in range(3, n):
                 v[i] += half * a[i]
             clock[CLOCK_TIME] = t + h
             stats[STAT_STEPS] += 1
             stats[STAT_RESIDUALS] += 1
-        if not record_sample(m, ip, q, v, a, clock[CLOCK_TIME], target, drive_t, drive_x, values[s]):
-            return s
+        row = values[s]
+        t = clock[CLOCK_TIME]
+        if target >= t - tol:
+            explicit_outputs(wet, water, flow, elements, hydro, kind, q, v, a, row)
+        else:
+            interpolate_step(on_ship, top_point, start, t0[0], state_t, q, v, a, t, target, drive_t, drive_x, ship,
+                             basis)
+            explicit_outputs(wet, water, flow, elements, hydro, kind, state_t[0], state_t[1], state_t[2], row)
+        for k in range(row.size):
+            if not math.isfinite(row[k]):
+                return s
     return samples.size

@@ -29,7 +29,7 @@ from ..kernel_cache import njit
 from ..kinematics import ship_point_kinematics
 from ..numerics.banded import band_lu, band_solve
 from ..numerics.hermite import step_weights
-from ..runtime.drive import evaluate_drive
+from ..runtime.drive import evaluate_drive_with
 from .assembly import bandwidth, cable_residual, expand, iteration_matrix, residual
 from .element import add_element, axial_force
 from .model import NodalModel
@@ -84,19 +84,28 @@ def new_state(n: int, h: float) -> NodalState:
 def prescribe_top(m: NodalModel, drive_t: np.ndarray, drive_x: np.ndarray, t: float, q: np.ndarray,
                   v: np.ndarray, a: np.ndarray) -> None:
     """Set node 0's position [m], velocity [m/s] and acceleration [m/s^2] at time t [s]."""
-    if m.top_on_ship:
-        ship = np.empty((3, 6))
-        evaluate_drive(drive_t, drive_x, t, ship)
+    prescribe_top_with(m.top_on_ship, m.top_point, drive_t, drive_x, t, q, v, a, np.empty((3, 6)),
+                       np.empty((6, 3)))
+
+
+@njit(cache=True, inline="always")
+def prescribe_top_with(top_on_ship: bool, top_point: np.ndarray, drive_t: np.ndarray, drive_x: np.ndarray, t: float,
+                       q: np.ndarray, v: np.ndarray, a: np.ndarray, ship: np.ndarray, basis: np.ndarray) -> None:
+    """:func:`prescribe_top` of the model's ``top_on_ship`` and ``top_point`` with the scratch
+    ``ship`` (3, 6) and ``basis`` (6, 3): nothing allocated unless the ship rotates (and the
+    model not passed: a tuple of arrays is reference-counted field by field wherever it goes)."""
+    if top_on_ship:
+        evaluate_drive_with(drive_t, drive_x, t, ship, basis)
         if ship[:, 3:].any():
-            k = ship_point_kinematics(ship, m.top_point)
+            k = ship_point_kinematics(ship, top_point)
             for c in range(3):
                 q[c], v[c], a[c] = k[0, c], k[1, c], k[2, c]
         else:  # a ship that does not rotate (now) carries the point with its origin: the same values
             for c in range(3):
-                q[c], v[c], a[c] = ship[0, c] + m.top_point[c], ship[1, c], ship[2, c]
+                q[c], v[c], a[c] = ship[0, c] + top_point[c], ship[1, c], ship[2, c]
     else:
         for c in range(3):
-            q[c], v[c], a[c] = m.top_point[c], 0.0, 0.0
+            q[c], v[c], a[c] = top_point[c], 0.0, 0.0
 
 
 @njit(cache=True)
@@ -260,20 +269,29 @@ def new_interpolant(n: int) -> Interpolant:
 @njit(cache=True)
 def _interpolate(m: NodalModel, ip: Interpolant, q: np.ndarray, v: np.ndarray, x: np.ndarray, t1: float,
                  t: float, drive_t: np.ndarray, drive_x: np.ndarray) -> None:
-    """The state at time t [s] inside the last step (ending at t1 with q, v, x) into
-    ``ip.state``: cubic Hermite in the coordinates from their values and rates at both
-    ends (error O(h^4), below the schemes' own order), rates its derivative, accelerations
-    linear; the top node follows the ship exactly."""
-    t0 = ip.t0[0]
+    """:func:`interpolate_step` with its scratch allocated here."""
+    interpolate_step(m.top_on_ship, m.top_point, ip.start, ip.t0[0], ip.state, q, v, x, t1, t, drive_t, drive_x,
+                     np.empty((3, 6)), np.empty((6, 3)))
+
+
+@njit(cache=True, inline="always")
+def interpolate_step(top_on_ship: bool, top_point: np.ndarray, start: np.ndarray, t0: float, state: np.ndarray,
+                     q: np.ndarray, v: np.ndarray, x: np.ndarray, t1: float, t: float, drive_t: np.ndarray,
+                     drive_x: np.ndarray, ship: np.ndarray, basis: np.ndarray) -> None:
+    """The state at time t [s] inside the last step (from ``start`` (rows q, v, x) at ``t0``
+    [s] to q, v, x at t1) into ``state`` (3, n): cubic Hermite in the coordinates from their
+    values and rates at both ends (error O(h^4), below the schemes' own order), rates its
+    derivative, accelerations linear; the top node follows the ship exactly
+    (:func:`prescribe_top_with`, with its arguments)."""
     h = t1 - t0
     s = (t - t0) / h
     h00, h10, h01, h11, d00, d10, d01, d11 = step_weights(s, h)
     for i in range(q.size):
-        q0, v0 = ip.start[0, i], ip.start[1, i]
-        ip.state[0, i] = h00 * q0 + h10 * h * v0 + h01 * q[i] + h11 * h * v[i]
-        ip.state[1, i] = d00 * q0 + d10 * v0 + d01 * q[i] + d11 * v[i]
-        ip.state[2, i] = (1.0 - s) * ip.start[2, i] + s * x[i]
-    prescribe_top(m, drive_t, drive_x, t, ip.state[0], ip.state[1], ip.state[2])
+        q0, v0 = start[0, i], start[1, i]
+        state[0, i] = h00 * q0 + h10 * h * v0 + h01 * q[i] + h11 * h * v[i]
+        state[1, i] = d00 * q0 + d10 * v0 + d01 * q[i] + d11 * v[i]
+        state[2, i] = (1.0 - s) * start[2, i] + s * x[i]
+    prescribe_top_with(top_on_ship, top_point, drive_t, drive_x, t, state[0], state[1], state[2], ship, basis)
 
 
 @njit(cache=True)

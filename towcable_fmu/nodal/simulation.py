@@ -38,6 +38,12 @@ BODY_NAMES = ("towbody.x", "towbody.y", "towbody.z", "towbody.vx", "towbody.vy",
 #: Further outputs of a scene with a rigid towed body (``towbody.model = "rigid"``).
 RIGID_NAMES = ("tension.towbody", "towbody.roll", "towbody.pitch", "towbody.yaw")
 _N_VALUES = len(OUTPUT_NAMES) + len(BODY_NAMES) + len(RIGID_NAMES)
+#: the explicit path: simulated time per compiled call [s] (a call's dispatch costs about a
+#: millisecond, a second of the snapping cable's steps 5 ms) and leapfrog steps per drive
+#: knot (its step is set by the cable's axial waves, not by the motion: ten of the snapping
+#: cable's are 2.5 ms, a quintic piece over 1/300 of its motion's period)
+EXPLICIT_BLOCK = 30.0
+EXPLICIT_KNOT_STEPS = 10
 
 
 class NodalSimulation(SimulationDriver):
@@ -115,8 +121,7 @@ class NodalSimulation(SimulationDriver):
         if self._lumped is None:
             ok = accelerations(m, st.q, st.v, st.x, t0, st.stats)
         else:  # the leapfrog's own accelerations: lumped masses
-            lumped_accelerations(m, self._lumped, st.q, st.v, t0, np.zeros(st.q.size), np.empty(st.q.size),
-                                 np.empty((m.n_nodes, 6)), st.x)
+            lumped_accelerations(m, self._lumped, st.q, st.v, np.empty(st.q.size), np.zeros((m.n_nodes, 6)), st.x)
             ok = bool(np.all(np.isfinite(st.x)))
         if not ok:
             raise SolverError("the initial state has no finite acceleration")
@@ -219,14 +224,21 @@ class NodalSimulation(SimulationDriver):
         self.state.acc[:] = self.state.x
         return self.outputs()
 
+    def _block_size(self, interval: float) -> int:
+        """Samples per block of the run loop: about a second of simulated time, the explicit
+        path's EXPLICIT_BLOCK."""
+        return max(1, int((EXPLICIT_BLOCK if self._lumped is not None else 1.0) / interval))
+
     def _record(self, block: np.ndarray, rows: np.ndarray, t_land: float) -> int:
         """The integrator's own steps through ``block``, samples read from its interpolant."""
         marks = self._interpolation_marks(block, self.time, float(self._interpolant.t0[0]), self.options.h_max,
                                           t_land)
-        if self._lumped is not None:  # the leapfrog's steps are the knots: the samples need none of their own
+        spacing = self.options.h_max
+        if self._lumped is not None:  # the leapfrog's steps need no knots of their own, nor do the samples
             marks = marks[[0, -1]]
+            spacing *= EXPLICIT_KNOT_STEPS
         values = np.zeros((block.size, _N_VALUES))
-        reached = self._advance_recording(block, self._drive(marks, self.options.h_max), values, True, t_land)
+        reached = self._advance_recording(block, self._drive(marks, spacing), values, True, t_land)
         rows[:reached] = values[:reached, :len(self.names)]
         return reached
 

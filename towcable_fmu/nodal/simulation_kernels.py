@@ -79,7 +79,7 @@ def _advance_recording() -> tuple:
 def _lumped_accelerations() -> tuple:
     s = _reference()
     st = s.state
-    return s.model, node_masses(s.model), st.q, st.v, 0.0, st.q, st.q, np.zeros((1, 6)), st.x
+    return s.model, node_masses(s.model), st.q, st.v, st.q, np.zeros((1, 6)), st.x
 
 
 def _leapfrog_recording() -> tuple:

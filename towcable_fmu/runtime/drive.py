@@ -97,6 +97,14 @@ def evaluate_drive(drive_t: np.ndarray, drive_x: np.ndarray, t: float, ship: np.
     (phi_sp, phi_sp_rate)
         Winch set-point [rad] and its rate [rad/s].
     """
+    return evaluate_drive_with(drive_t, drive_x, t, ship, np.empty((6, 3)))
+
+
+@njit(cache=True)
+def evaluate_drive_with(drive_t: np.ndarray, drive_x: np.ndarray, t: float, ship: np.ndarray,
+                        basis: np.ndarray) -> tuple:
+    """:func:`evaluate_drive` with the scratch ``basis`` (6, 3) for the Hermite basis: nothing
+    allocated (the explicit path evaluates the drive at every step)."""
     nk = drive_t.shape[0]
     if nk == 1:
         tau = t - drive_t[0]
@@ -115,7 +123,7 @@ def evaluate_drive(drive_t: np.ndarray, drive_x: np.ndarray, t: float, ship: np.
     s4 = s3 * s
     s5 = s4 * s
     # quintic Hermite basis (value, first and second derivative in s) for the ship channels
-    h = np.empty((6, 3))
+    h = basis
     h[0, 0] = 1.0 - 10.0 * s3 + 15.0 * s4 - 6.0 * s5
     h[1, 0] = s - 6.0 * s3 + 8.0 * s4 - 3.0 * s5
     h[2, 0] = 0.5 * s2 - 1.5 * s3 + 1.5 * s4 - 0.5 * s5

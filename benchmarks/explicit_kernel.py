@@ -1,0 +1,114 @@
+"""The explicit path's cost per node and step on the snapping case, and MoorDyn's in the same run.
+
+``snapping_cable_nodal`` (leapfrog, lumped masses, towcable_fmu/nodal/explicit_kernel.py) at
+its default (16 elements, 0.247 ms, 1.27 Hz) and at 2 and 40 elements (0.807 Hz): the
+compiled stepping kernel alone (one sample at the end of the run: kick, drift, the top node
+from the drive, the forces, the lumped-mass solve) and the whole ``sim.run`` with the
+case's 0.5 ms samples (interpolated outputs, the drive table, Python). Cost per node per
+step [ns] = time / (steps x nodes), in CPU time of this process (the machine is shared:
+CPU time is less disturbed by the other jobs than wall time, which is also given) and
+median of REPEATS runs of 15 s. MoorDyn (RK4, 20 segments, 0.382 ms, the case's harness)
+in the same run: its wall time per node and force evaluation (4 per RK4 step).
+
+Run: ``python benchmarks/explicit_kernel.py``. Writes ``results/explicit_kernel.md``.
+"""
+
+from __future__ import annotations
+
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from common import RESULTS, machine_header, markdown_table
+
+sys.path.insert(0, str(Path(__file__).parent / "peers"))
+import snapping_case as case  # noqa: E402
+
+REPEATS = 5
+DURATION = case.DURATION
+#: (label, frequency [Hz], elements, time step [s] or None for the scene's explicit limit)
+CASES = (("scene default, 1.27 Hz", 1.27, 16, 0.000247), ("2 elements, 0.807 Hz", 0.807, 2, None),
+         ("40 elements, 0.807 Hz", 0.807, 40, None))
+
+
+def _simulation(frequency: float, elements: int, step: float | None):
+    from towcable_fmu.nodal.simulation import NodalSimulation
+    from towcable_fmu.scene import load_scene
+
+    overrides = {"motion.heave.period": 1.0 / frequency, "cable.segments[0].elements": elements}
+    if step is None:
+        step = load_scene("snapping_cable_nodal", {**overrides, "solver.integrator": "genalpha"}).explicit_step()
+    return NodalSimulation.from_scene("snapping_cable_nodal", {**overrides, "solver.time_step": step})
+
+
+def kernel_cost(frequency: float, elements: int, step: float | None) -> dict:
+    """Median cost [ns per node per step] of the stepping kernel alone and of the whole run."""
+    from towcable_fmu.nodal.explicit import leapfrog_recording
+
+    sim = _simulation(frequency, elements, step)
+    sim.initialize()
+    sim.run(0.05, interval=5e-4)  # kernels loaded
+    nodes = sim.model.n_nodes
+    kernel_cpu, kernel_wall, run_cpu, run_wall = [], [], [], []
+    steps = 0
+    for _ in range(REPEATS):
+        sim.initialize()
+        drive = sim._drive(np.array([0.0, DURATION + sim.options.h_max]), 10 * sim.options.h_max)
+        values = np.zeros((1, 14))
+        before = int(sim.state.stats[0])
+        c0, w0 = time.process_time(), time.perf_counter()
+        leapfrog_recording(sim.model, sim._lumped, sim.options, sim.state, np.array([DURATION]), *drive, values,
+                           sim._interpolant, True, DURATION)
+        kernel_cpu.append(time.process_time() - c0)
+        kernel_wall.append(time.perf_counter() - w0)
+        steps = int(sim.state.stats[0]) - before
+        sim.initialize()
+        c0, w0 = time.process_time(), time.perf_counter()
+        sim.run(DURATION, interval=5e-4)
+        run_cpu.append(time.process_time() - c0)
+        run_wall.append(time.perf_counter() - w0)
+    per = 1e9 / (steps * nodes)
+    return {"nodes": nodes, "steps": steps, "h": sim.options.h_max,
+            "kernel_cpu": statistics.median(kernel_cpu) * per, "kernel_wall": statistics.median(kernel_wall) * per,
+            "run_cpu": statistics.median(run_cpu) * per, "run_wall": statistics.median(run_wall) * per,
+            "speed": DURATION / statistics.median(run_wall)}
+
+
+def moordyn_cost() -> dict | None:
+    """MoorDyn RK4 at 20 segments, 0.382 ms: wall time per node and force evaluation [ns]."""
+    try:
+        from moordyn_snapping import run
+    except ImportError:
+        return None
+    segments, step = 20, 0.000382
+    walls = [run(1.27, DURATION, segments, step, scheme="RK4")["wall_time_s"] for _ in range(REPEATS)]
+    wall = statistics.median(walls)
+    steps = DURATION / step
+    return {"wall": wall, "per_eval": wall * 1e9 / (4 * steps * (segments + 1)), "speed": DURATION / wall}
+
+
+def main() -> None:
+    rows = []
+    for label, f, n, h in CASES:
+        r = kernel_cost(f, n, h)
+        rows.append([label, str(n), f"{r['h'] * 1e3:.4g}", str(r["steps"]), f"{r['kernel_cpu']:.1f}",
+                     f"{r['kernel_wall']:.1f}", f"{r['run_cpu']:.1f}", f"{r['run_wall']:.1f}", f"{r['speed']:.0f}"])
+        print(label, r, file=sys.stderr)
+    md = moordyn_cost()
+    lines = ["# The explicit kernel: cost per node and step\n", machine_header(),
+             "- the machine was shared with other jobs (2 cores, up to 4 agents): wall times are noisy and high; "
+             "CPU times of this process are the steadier figure.\n\n", __doc__.split("\n\n")[1].replace("\n", " "),
+             "\n\n", markdown_table(["case", "elements", "step [ms]", "steps", "kernel CPU [ns/node/step]",
+                                     "kernel wall", "whole run CPU", "whole run wall", "speed [x real time]"], rows)]
+    if md is not None:
+        lines.append(f"\nMoorDyn 2.7 RK4, 20 segments, 0.382 ms, 1.27 Hz, same run: {md['per_eval']:.0f} ns wall per "
+                     f"node and force evaluation ({4 * md['per_eval']:.0f} per node and RK4 step, the Python coupling "
+                     f"every 0.5 ms included), {md['speed']:.0f}x real time (median of {REPEATS}).\n")
+    (RESULTS / "explicit_kernel.md").write_text("".join(lines), encoding="utf-8")
+
+
+if __name__ == "__main__":
+    main()
