@@ -263,8 +263,7 @@ class IrregularTable:
                             doc="significant wave height (ochi_hubble: of the wind sea; torsethaugen: of the whole "
                                 "sea, > 0)")
     tp: float = motion_spec(DEFAULT_SEA["tp"], ge=2.0, le=30.0, unit="s",
-                            doc="peak period (ochi_hubble: of the wind sea; torsethaugen: of the primary peak, in "
-                                "[2 sqrt(hs), 25] s)")
+                            doc="peak period (ochi_hubble: of the wind sea; torsethaugen: of the primary peak)")
     spectrum: str = motion_spec("jonswap", choices=SPECTRA,
                                 doc="wave spectrum: JONSWAP (hs, tp, gamma), Ochi-Hubble's two peaks (hs, tp, "
                                     "shape: the wind sea; swell_hs, swell_tp, swell_shape: the swell), Torsethaugen's "

@@ -23,7 +23,8 @@ Hs = sqrt(H_1^2 + H_2^2).
 
 Torsethaugen two-peak spectrum (wind sea + swell fitted to Northern North Sea data), the
 simplified 2004 version: Torsethaugen & Haver (2004), "Simplified double peak spectral model
-for ocean waves", ISOPE, as given in DNV-RP-C205 (2010) section 3.5.6 (not the 1996 SINTEF
+for ocean waves", ISOPE, as given in DNV-RP-C205 (2010) section 3.5.7 (two-peak spectra) and its
+Appendix A (section 3.5.6 of that edition is the TMA spectrum; not the 1996 SINTEF
 model of MSS's torsetSpectrum.m, whose tail exponent 0.5 Hs^(1/2) + 3.2 and gamma factor
 1 + 3.5 exp(-Hs) depend on Hs). From Hs [m] and the
 primary peak period Tp [s], with the fully developed peak period Tpf = 6.6 Hs^(1/3) [s]
