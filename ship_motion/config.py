@@ -324,7 +324,7 @@ class IrregularTable:
         lower end about the swell's to the upper end about the wind sea's)."""
         periods = (self.tp, self.swell_tp) if self.spectrum == "ochi_hubble" and self.swell_tp else (self.tp,)
         if self.spectrum == "torsethaugen":
-            periods = tuple(tp for h, tp, _ in Torsethaugen(self.hs, self.tp).parts if h > 0.0)
+            periods = Torsethaugen(self.hs, self.tp).peak_periods
         return (DEFAULT_BAND[0] * 2.0 * math.pi / max(periods) if self.omega_min is None else self.omega_min,
                 DEFAULT_BAND[1] * 2.0 * math.pi / min(periods) if self.omega_max is None else self.omega_max)
 

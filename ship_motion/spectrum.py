@@ -290,9 +290,14 @@ class Torsethaugen(Spectrum):
         return (h1, tp, gamma), (h2, TORSETHAUGEN_FULLY_DEVELOPED * h2 ** (1.0 / 3.0), 1.0)
 
     @property
+    def peak_periods(self) -> tuple[float, ...]:
+        """The peak periods [s] of the parts that carry energy (one at Tp = Tpf)."""
+        return tuple(tp for h, tp, _ in self.parts if h > 0.0)
+
+    @property
     def peak_frequency(self) -> float:
         """The lower of the two peak frequencies [rad/s]."""
-        return 2.0 * math.pi / max(part[1] for part in self.parts)
+        return 2.0 * math.pi / max(self.peak_periods)
 
     def density(self, omega: ArrayLike) -> np.ndarray:
         """Spectral density S(omega) [m^2 s/rad] at wave frequencies ``omega`` [rad/s]."""

@@ -177,6 +177,7 @@ def test_torsethaugen_fully_developed_sea_is_one_peak(hs):
     assert s.fully_developed_period == pytest.approx(tpf)
     (h1, t1, gamma), (h2, _, _) = s.parts
     assert (h1, t1, h2) == pytest.approx((hs, tpf, 0.0), abs=1e-12)
+    assert s.peak_periods == (tpf,) and s.peak_frequency == pytest.approx(2.0 * math.pi / tpf)
     assert gamma == pytest.approx(35.0 * (2 * math.pi * hs / (9.81 * tpf ** 2)) ** 0.857, rel=1e-12)
     w = np.linspace(0.1, 4.0, 400)
     np.testing.assert_allclose(s.density(w), _source_density(hs, tpf * (1 - 1e-12), w), rtol=0.035, atol=1e-9)
