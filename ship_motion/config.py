@@ -29,7 +29,7 @@ from .manoeuvre import Manoeuvre, Turn
 from .rao import FRIGATE, ClosedFormRao, Rao, RaoTable, ShipParticulars
 from .rao_files import mirrored, read_capytaine, read_orcaflex, read_wamit_4
 from .regular import Harmonic, RegularMotion
-from .spectrum import SPACINGS, SPECTRA, Jonswap, OchiHubble, Spectrum
+from .spectrum import SPACINGS, SPECTRA, Jonswap, OchiHubble, Spectrum, Torsethaugen
 from .spectrum_file import read_wavespectra
 from .spreading import Cos2s
 from .superposition import SuperposedMotion
@@ -260,12 +260,14 @@ class IrregularTable:
     KIND: ClassVar[str] = "irregular"
 
     hs: float = motion_spec(DEFAULT_SEA["hs"], ge=0.0, le=20.0, unit="m",
-                            doc="significant wave height (ochi_hubble: of the wind sea)")
+                            doc="significant wave height (ochi_hubble: of the wind sea; torsethaugen: of the whole "
+                                "sea, > 0)")
     tp: float = motion_spec(DEFAULT_SEA["tp"], ge=2.0, le=30.0, unit="s",
-                            doc="peak period (ochi_hubble: of the wind sea)")
+                            doc="peak period (ochi_hubble: of the wind sea; torsethaugen: of the primary peak)")
     spectrum: str = motion_spec("jonswap", choices=SPECTRA,
                                 doc="wave spectrum: JONSWAP (hs, tp, gamma), Ochi-Hubble's two peaks (hs, tp, "
-                                    "shape: the wind sea; swell_hs, swell_tp, swell_shape: the swell) or a directional "
+                                    "shape: the wind sea; swell_hs, swell_tp, swell_shape: the swell), Torsethaugen's "
+                                    "two peaks (hs, tp: wind sea and swell from the North Sea fit) or a directional "
                                     "spectrum file (spectrum_file, ship_heading; hs, tp, heading, components not used)")
     gamma: float | None = motion_spec(None, ge=1.0, le=10.0, unit="-", default_text=f"{DEFAULT_SEA['gamma']:g}",
                                       doc="jonswap: peak enhancement factor (1: Pierson-Moskowitz)")
@@ -313,6 +315,7 @@ class IrregularTable:
         doc="response amplitude operators: the hull particulars below (closed form), or a file")
 
     RULES: ClassVar[dict[str, str]] = {"omega_max": "> omega_min", "spectrum": "takes its own keys",
+                                       "tp": "torsethaugen: in [2 sqrt(hs), 25] s, hs > 0",
                                        "directions": "only with spreading"}
 
     @property
@@ -320,11 +323,20 @@ class IrregularTable:
         """The wave band [rad/s]: the keys given, else the default band about the peak (two peaks: from the
         lower end about the swell's to the upper end about the wind sea's)."""
         periods = (self.tp, self.swell_tp) if self.spectrum == "ochi_hubble" and self.swell_tp else (self.tp,)
+        if self.spectrum == "torsethaugen":
+            periods = Torsethaugen(self.hs, self.tp).peak_periods
         return (DEFAULT_BAND[0] * 2.0 * math.pi / max(periods) if self.omega_min is None else self.omega_min,
                 DEFAULT_BAND[1] * 2.0 * math.pi / min(periods) if self.omega_max is None else self.omega_max)
 
     def validate(self, path: str) -> None:
         """A given omega_max lies above the band's lower end."""
+        if self.spectrum == "torsethaugen":
+            if self.hs <= 0.0:
+                raise SceneError(f"{path}.hs", self.hs, "> 0 m with spectrum = 'torsethaugen'")
+            lower, upper = Torsethaugen.period_range(self.hs)
+            if not lower <= self.tp <= upper:
+                raise SceneError(f"{path}.tp", self.tp, f"a primary peak period in [{lower:.4g}, {upper:g}] s for hs "
+                                 f"{self.hs:g} m (Torsethaugen's range: 2 sqrt(hs) to 25 s)")
         lo = self.band[0]
         if self.omega_max is not None and self.omega_max <= lo:
             raise SceneError(f"{path}.omega_max", self.omega_max, f"a finite number in ({lo:g}, 20] rad/s")
@@ -352,6 +364,8 @@ class IrregularTable:
 
     def wave_spectrum(self) -> Spectrum:
         """The spectrum the keys describe."""
+        if self.spectrum == "torsethaugen":
+            return Torsethaugen(self.hs, self.tp)
         if self.spectrum == "ochi_hubble":
             return OchiHubble(self.hs, self.tp, self.shape or 1.0, self.swell_hs, self.swell_tp,
                               self.swell_shape or 1.0)

@@ -1,4 +1,4 @@
-"""Wave spectra (JONSWAP, Ochi-Hubble) and their discretisation into harmonic wave components.
+"""Wave spectra (JONSWAP, Ochi-Hubble, Torsethaugen) and their discretisation into harmonic wave components.
 
 Spectrum (DNV-RP-C205 section 3.5.5, omega in rad/s)::
 
@@ -21,6 +21,40 @@ heights H_j, peak frequencies omega_j = 2 pi / T_j and shape lambda_j::
 each with zeroth moment H_j^2 / 16 (lambda = 1: Pierson-Moskowitz), so the sea's
 Hs = sqrt(H_1^2 + H_2^2).
 
+Torsethaugen two-peak spectrum (wind sea + swell fitted to Northern North Sea data), the
+simplified 2004 version: Torsethaugen & Haver (2004), "Simplified double peak spectral model
+for ocean waves", ISOPE, as given in DNV-RP-C205 (2010) section 3.5.7 (two-peak spectra) and its
+Appendix A (section 3.5.6 of that edition is the TMA spectrum; not the 1996 SINTEF
+model of MSS's torsetSpectrum.m, whose tail exponent 0.5 Hs^(1/2) + 3.2 and gamma factor
+1 + 3.5 exp(-Hs) depend on Hs). From Hs [m] and the
+primary peak period Tp [s], with the fully developed peak period Tpf = 6.6 Hs^(1/3) [s]
+(Hs in m), T_l = 2 Hs^(1/2) [s] and T_u = 25 s:
+
+- wind-dominated sea, Tp <= Tpf: epsilon_l = (Tpf - Tp) / (Tpf - T_l),
+  R_w = 0.7 + 0.3 exp(-(epsilon_l / 0.5)^2); primary (wind sea) H_1 = R_w Hs at Tp with
+  gamma = 35 (2 pi H_1 / (g Tp^2))^0.857; secondary (swell) H_2 = sqrt(1 - R_w^2) Hs at
+  T_p2 = Tpf + 2 s with gamma = 1;
+- swell-dominated sea, Tp > Tpf: epsilon_u = (Tp - Tpf) / (T_u - Tpf),
+  R_s = 0.6 + 0.4 exp(-(epsilon_u / 0.3)^2); primary (swell) H_1 = R_s Hs at Tp with
+  gamma = 35 (2 pi Hs / (g Tpf^2))^0.857 (1 + 6 epsilon_u) (the whole sea's Hs at Tpf, as in
+  Torsethaugen & Haver 2004 and DNV-RP-C205, not the primary height H_1 that some
+  implementations use); secondary (wind sea) H_2 = sqrt(1 - R_s^2) Hs at
+  T_p2 = 6.6 H_2^(1/3) with gamma = 1.
+
+Each peak j has the normalised shape of N = M = 4 (the 2004 simplification: an omega^-4 tail)::
+
+    S_j(omega) = H_j^2 / 16 * T_pj / (2 pi) * G_0 A_gamma x^-4 exp(-x^-4) gamma^exp(-(x - 1)^2 / (2 sigma^2)),
+    x = omega T_pj / (2 pi)
+
+with sigma = 0.07 (x <= 1) or 0.09 and G_0 = 4 / Gamma(3/4) = 3.26; so each part's zeroth
+moment is H_j^2 / 16 and the sea's is Hs^2 / 16 (H_1^2 + H_2^2 = Hs^2), and each part peaks at
+its own T_pj. The source's A_gamma = (1 + 1.1 (ln gamma)^1.19) / gamma is a fit to the exact
+normalisation; as for JONSWAP it is replaced here by the exact value (quadrature), which it
+matches within 3.5 % for 1 <= gamma <= 40 (1.7 % in Hs). gamma is kept >= 1 (the steepness law
+gives less than 1 near Tpf for Hs below ~2 m, where A_gamma is undefined). The model's range is
+T_l <= Tp <= T_u (epsilon_l, epsilon_u in [0, 1]). At Tp = Tpf both branches give R = 1: a
+single peak of Hs at Tpf with gamma = 35 (2 pi Hs / (g Tpf^2))^0.857.
+
 Discretisation: [omega_min, omega_max] is cut into N bins of equal width. Each
 component takes the energy of its bin, amplitude ``a_i = sqrt(2 int_bin S domega)``
 (Gauss-Legendre quadrature per bin), so the variance of the sum is exactly the
@@ -41,8 +75,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.integrate import quad
 
+from .rao import GRAVITY
+
 #: Values of ``[motion] spectrum``.
-SPECTRA: tuple[str, ...] = ("jonswap", "ochi_hubble", "file")
+SPECTRA: tuple[str, ...] = ("jonswap", "ochi_hubble", "torsethaugen", "file")
+
+#: Torsethaugen's period constants: T_pf = 6.6 Hs^(1/3) [s], T_l = 2 Hs^(1/2) [s], T_u = 25 [s].
+TORSETHAUGEN_FULLY_DEVELOPED = 6.6
+TORSETHAUGEN_LOWER = 2.0
+TORSETHAUGEN_UPPER = 25.0
 
 #: Ways of placing component frequencies within their bins.
 SPACINGS: tuple[str, ...] = ("random", "equal")
@@ -50,22 +91,31 @@ SPACINGS: tuple[str, ...] = ("random", "equal")
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(16)
 
 
-def _shape(x: np.ndarray, gamma: float) -> np.ndarray:
-    """Unnormalised JONSWAP shape in x = omega / omega_p; integrates to 1/16 for gamma = 1."""
+def _shape(x: np.ndarray, gamma: float, tail: int = 5) -> np.ndarray:
+    """Unnormalised peak-enhanced shape ``x^-n exp(-n/4 x^-4) gamma^r`` in x = omega / omega_p, n = ``tail``
+    (5: JONSWAP, 4: Torsethaugen); it peaks at x = 1 for gamma = 1."""
     x = np.asarray(x, dtype=float)
-    safe = np.where(x > 0.05, x, 1.0)  # below 0.05 omega_p the spectrum is exp(-2e5) = 0
+    safe = np.where(x > 0.05, x, 1.0)  # below 0.05 omega_p the spectrum is exp(-1.6e5) = 0
     sigma = np.where(safe <= 1.0, 0.07, 0.09)
     peak = gamma ** np.exp(-((safe - 1.0) ** 2) / (2.0 * sigma ** 2))
-    value = 5.0 / 16.0 * safe ** -5 * np.exp(-1.25 * safe ** -4) * peak
+    value = safe ** -tail * np.exp(-0.25 * tail * safe ** -4) * peak
     return np.where(x > 0.05, value, 0.0)
 
 
 @lru_cache(maxsize=64)
-def normalisation(gamma: float) -> float:
-    """Factor C(gamma) [-] that makes the JONSWAP spectrum's zeroth moment Hs^2 / 16."""
-    integral = sum(quad(lambda x: float(_shape(x, gamma)), a, b, limit=200)[0]
+def normalisation(gamma: float, tail: int = 5) -> float:
+    """Factor [-] that makes the zeroth moment of ``Hs^2 / omega_p * factor * _shape`` Hs^2 / 16 (JONSWAP:
+    C(gamma) times 5/16)."""
+    integral = sum(quad(lambda x: float(_shape(x, gamma, tail)), a, b, limit=200)[0]
                    for a, b in ((0.0, 0.9), (0.9, 1.1), (1.1, 3.0), (3.0, np.inf)))
     return 1.0 / (16.0 * integral)
+
+
+def _peak_density(omega: ArrayLike, hs: float, tp: float, gamma: float, tail: int = 5) -> np.ndarray:
+    """S(omega) [m^2 s/rad] of one normalised peak of height ``hs`` [m] and period ``tp`` [s] (``_shape``)."""
+    wp = 2.0 * math.pi / tp
+    x = np.asarray(omega, dtype=float) / wp
+    return hs ** 2 / wp * normalisation(gamma, tail) * _shape(x, gamma, tail)
 
 
 class Spectrum:
@@ -121,9 +171,7 @@ class Jonswap(Spectrum):
 
     def density(self, omega: ArrayLike) -> np.ndarray:
         """Spectral density S(omega) [m^2 s/rad] at wave frequencies ``omega`` [rad/s]."""
-        wp = self.peak_frequency
-        x = np.asarray(omega, dtype=float) / wp
-        return self.hs ** 2 / wp * normalisation(self.gamma) * _shape(x, self.gamma)
+        return _peak_density(omega, self.hs, self.tp, self.gamma)
 
     @property
     def description(self) -> str:
@@ -185,6 +233,92 @@ class OchiHubble(Spectrum):
         """One line naming the spectrum and its parameters."""
         return (f"Ochi-Hubble wind sea Hs {self.hs:g} m, Tp {self.tp:g} s, lambda {self.shape:g}; swell Hs "
                 f"{self.swell_hs:g} m, Tp {self.swell_tp:g} s, lambda {self.swell_shape:g}")
+
+
+@dataclass(frozen=True)
+class Torsethaugen(Spectrum):
+    """Torsethaugen two-peak spectrum, the simplified 2004 version (module docstring).
+
+    Parameters
+    ----------
+    hs
+        Significant wave height [m] of the whole sea, > 0.
+    tp
+        Primary peak period [s], in the model's range [2 sqrt(hs), 25] s.
+    """
+
+    hs: float
+    tp: float
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.hs) and self.hs > 0.0):
+            raise ValueError(f"hs must be finite and > 0 m, got {self.hs}")
+        lower, upper = self.period_range(self.hs)
+        if not (math.isfinite(self.tp) and lower <= self.tp <= upper):
+            raise ValueError(f"tp must lie in [{lower:.4g}, {upper:g}] s (2 sqrt(hs) to 25 s), got {self.tp}")
+
+    @staticmethod
+    def period_range(hs: float) -> tuple[float, float]:
+        """The model's range of primary peak periods [s], (T_l, T_u) = (2 sqrt(hs), 25) for hs [m]."""
+        return TORSETHAUGEN_LOWER * math.sqrt(hs), TORSETHAUGEN_UPPER
+
+    @property
+    def fully_developed_period(self) -> float:
+        """T_pf = 6.6 Hs^(1/3) [s], the peak period of a fully developed sea."""
+        return TORSETHAUGEN_FULLY_DEVELOPED * self.hs ** (1.0 / 3.0)
+
+    @property
+    def wind_dominated(self) -> bool:
+        """True when Tp <= T_pf: the primary peak is the wind sea."""
+        return self.tp <= self.fully_developed_period
+
+    @property
+    def parts(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+        """(height [m], peak period [s], gamma [-]) of the primary and the secondary peak."""
+        hs, tp, tpf = self.hs, self.tp, self.fully_developed_period
+        if self.wind_dominated:
+            eps = (tpf - tp) / (tpf - self.period_range(hs)[0])
+            ratio = 0.3 * math.exp(-((eps / 0.5) ** 2)) + 0.7
+            h1 = ratio * hs
+            h2 = math.sqrt(1.0 - ratio ** 2) * hs
+            return (h1, tp, max(1.0, _steepness_gamma(h1, tp))), (h2, tpf + 2.0, 1.0)
+        eps = (tp - tpf) / (TORSETHAUGEN_UPPER - tpf)
+        ratio = 0.4 * math.exp(-((eps / 0.3) ** 2)) + 0.6
+        h1 = ratio * hs
+        h2 = math.sqrt(1.0 - ratio ** 2) * hs
+        gamma = max(1.0, _steepness_gamma(hs, tpf) * (1.0 + 6.0 * eps))
+        return (h1, tp, gamma), (h2, TORSETHAUGEN_FULLY_DEVELOPED * h2 ** (1.0 / 3.0), 1.0)
+
+    @property
+    def peak_periods(self) -> tuple[float, ...]:
+        """The peak periods [s] of the parts that carry energy (one at Tp = Tpf)."""
+        return tuple(tp for h, tp, _ in self.parts if h > 0.0)
+
+    @property
+    def peak_frequency(self) -> float:
+        """The lower of the two peak frequencies [rad/s]."""
+        return 2.0 * math.pi / max(self.peak_periods)
+
+    def density(self, omega: ArrayLike) -> np.ndarray:
+        """Spectral density S(omega) [m^2 s/rad] at wave frequencies ``omega`` [rad/s]."""
+        total = np.zeros(np.shape(omega))
+        for h, tp, gamma in self.parts:
+            if h > 0.0:
+                total = total + _peak_density(omega, h, tp, gamma, tail=4)
+        return total
+
+    @property
+    def description(self) -> str:
+        """One line naming the spectrum and its parameters."""
+        (h1, _, gamma), (h2, tp2, _) = self.parts
+        kind = "wind-dominated" if self.wind_dominated else "swell-dominated"
+        return (f"Torsethaugen Hs {self.hs:g} m, Tp {self.tp:g} s ({kind}: primary Hs {h1:.3g} m, gamma "
+                f"{gamma:.3g}; secondary Hs {h2:.3g} m, Tp {tp2:.3g} s)")
+
+
+def _steepness_gamma(height: float, period: float) -> float:
+    """Torsethaugen's peak enhancement law 35 (2 pi H / (g T^2))^0.857 [-] of a height [m] and a period [s]."""
+    return 35.0 * (2.0 * math.pi * height / (GRAVITY * period ** 2)) ** 0.857
 
 
 @dataclass(frozen=True)

@@ -1,4 +1,4 @@
-"""Seas: the Ochi-Hubble spectrum, cos-2s spreading, short-crested realisations against their definitions."""
+"""Seas: Ochi-Hubble and Torsethaugen spectra, cos-2s spreading, short-crested seas against their definitions."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from scipy.signal import csd, welch
 
 from ship_motion import ClosedFormRao, IrregularSea, Jonswap, motion_from_config
 from ship_motion.rao import GRAVITY
-from ship_motion.spectrum import OchiHubble
+from ship_motion.spectrum import OchiHubble, Torsethaugen
 from ship_motion.spreading import Cos2s
 from towcable_fmu.errors import SceneError
 
@@ -114,3 +114,100 @@ def test_short_crested_and_two_peak_keys(tmp_path):
         with pytest.raises(SceneError) as err:
             motion_from_config({"type": "irregular", **table})
         assert err.value.key == key
+
+
+# Torsethaugen & Haver (2004) / DNV-RP-C205 3.5.6, written out here from the source's formulas as an independent
+# computation: the two partitions, and each peak with the source's G_0 = 3.26 and fitted A_gamma.
+def _source_partitions(hs, tp):
+    tpf, tl, tu = 6.6 * hs ** (1 / 3), 2.0 * math.sqrt(hs), 25.0
+    if tp <= tpf:
+        r = 0.7 + 0.3 * math.exp(-(((tpf - tp) / (tpf - tl)) / 0.5) ** 2)
+        gamma = 35.0 * (2 * math.pi * r * hs / (9.81 * tp ** 2)) ** 0.857
+        return [(r * hs, tp, gamma), (math.sqrt(1 - r * r) * hs, tpf + 2.0, 1.0)]
+    eps = (tp - tpf) / (tu - tpf)
+    r = 0.6 + 0.4 * math.exp(-(eps / 0.3) ** 2)
+    gamma = 35.0 * (2 * math.pi * hs / (9.81 * tpf ** 2)) ** 0.857 * (1 + 6 * eps)
+    h2 = math.sqrt(1 - r * r) * hs
+    return [(r * hs, tp, gamma), (h2, 6.6 * h2 ** (1 / 3), 1.0)]
+
+
+def _source_density(hs, tp, omega):
+    total = np.zeros_like(omega)
+    for h, t, gamma in _source_partitions(hs, tp):
+        x = omega * t / (2 * math.pi)
+        sigma = np.where(x <= 1.0, 0.07, 0.09)
+        a_gamma = (1 + 1.1 * math.log(gamma) ** 1.19) / gamma
+        total += h * h * t / 16 / (2 * math.pi) * 3.26 * a_gamma * x ** -4 * np.exp(-x ** -4) * gamma ** np.exp(
+            -(x - 1) ** 2 / (2 * sigma ** 2))
+    return total
+
+
+# wind-dominated (Tp < Tpf) and swell-dominated (Tp > Tpf) seas, gamma >= 1 in each; Hs 10 m, Tp 10 s has its
+# swell as a shoulder on the wind sea's flank (no local maximum there, in the source's formula as well)
+TORSETHAUGEN_SEAS = [(4.0, 7.0, True), (10.0, 10.0, False), (4.0, 4.0, True), (2.0, 5.0, True), (3.0, 16.0, True),
+                     (1.0, 20.0, True), (10.0, 25.0, True)]
+
+
+@pytest.mark.parametrize("hs, tp, two_peaks", TORSETHAUGEN_SEAS)
+def test_torsethaugen_hs_peaks_and_the_source_formula(hs, tp, two_peaks):
+    """4 sqrt(m0) = Hs; the spectrum matches the source's formula within its A_gamma fit (3.5 %); the primary
+    peak at Tp and the secondary where the source puts it (Tpf + 2 s, or 6.6 H_2^(1/3) for a swell-dominated sea;
+    within 5 %: the other part's flank shifts the sum's maximum)."""
+    s = Torsethaugen(hs, tp)
+    assert s.wind_dominated == (tp <= 6.6 * hs ** (1 / 3))
+    (h1, tp1, _), (h2, tp2, _) = _source_partitions(hs, tp)
+    m0 = quad(lambda w: float(s.density(w)), 0.0, np.inf, limit=500, points=None)[0]
+    assert 4.0 * math.sqrt(m0) == pytest.approx(hs, rel=1e-6)
+    w = np.linspace(0.05, 6.0, 6000)
+    np.testing.assert_allclose(s.density(w), _source_density(hs, tp, w), rtol=0.035, atol=1e-6 * s.density(w).max())
+    for period, tolerance in ((tp1, 0.005), (tp2, 0.05) if two_peaks else (tp1, 0.005)):
+        wp = 2.0 * math.pi / period
+        near = (w > 0.85 * wp) & (w < 1.15 * wp)
+        assert w[near][np.argmax(s.density(w[near]))] == pytest.approx(wp, rel=tolerance)
+    for (height, period, gamma), (h, t, g) in zip(s.parts, _source_partitions(hs, tp)):
+        assert (height, period, gamma) == pytest.approx((h, t, g), rel=1e-12)
+
+
+@pytest.mark.parametrize("hs", [4.0, 12.0])
+def test_torsethaugen_fully_developed_sea_is_one_peak(hs):
+    """At Tp = Tpf = 6.6 Hs^(1/3) both branches give R = 1: one peak of Hs at Tpf with gamma =
+    35 (2 pi Hs / (g Tpf^2))^0.857, the swell-dominated form with epsilon_u = 0; the spectrum is continuous there."""
+    tpf = 6.6 * hs ** (1 / 3)
+    s = Torsethaugen(hs, tpf)
+    assert s.fully_developed_period == pytest.approx(tpf)
+    (h1, t1, gamma), (h2, _, _) = s.parts
+    assert (h1, t1, h2) == pytest.approx((hs, tpf, 0.0), abs=1e-12)
+    assert s.peak_periods == (tpf,) and s.peak_frequency == pytest.approx(2.0 * math.pi / tpf)
+    assert gamma == pytest.approx(35.0 * (2 * math.pi * hs / (9.81 * tpf ** 2)) ** 0.857, rel=1e-12)
+    w = np.linspace(0.1, 4.0, 400)
+    np.testing.assert_allclose(s.density(w), _source_density(hs, tpf * (1 - 1e-12), w), rtol=0.035, atol=1e-9)
+    for side in (1 - 1e-7, 1 + 1e-7):
+        np.testing.assert_allclose(Torsethaugen(hs, tpf * side).density(w), s.density(w), rtol=1e-4, atol=1e-9)
+
+
+def test_torsethaugen_bad_input_names_key_value_and_range():
+    for hs, tp, message in ((0.0, 7.0, "hs must be finite and > 0 m, got 0.0"),
+                            (-1.0, 7.0, "hs must be finite and > 0 m, got -1.0"),
+                            (4.0, 3.9, "tp must lie in [4, 25] s (2 sqrt(hs) to 25 s), got 3.9"),
+                            (4.0, 25.5, "tp must lie in [4, 25] s (2 sqrt(hs) to 25 s), got 25.5"),
+                            (4.0, float("nan"), "tp must lie in [4, 25] s (2 sqrt(hs) to 25 s), got nan")):
+        with pytest.raises(ValueError) as err:
+            Torsethaugen(hs, tp)
+        assert str(err.value) == message
+    for table, key, value, allowed in (({"hs": 0.0}, "motion.hs", 0.0, "> 0 m"),
+                                       ({"hs": 4.0, "tp": 3.0}, "motion.tp", 3.0, "[4, 25] s"),
+                                       ({"hs": 1.0, "tp": 26.0}, "motion.tp", 26.0, "[2, 25] s"),
+                                       ({"gamma": 2.0}, "motion.gamma", 2.0, "absent")):
+        with pytest.raises(SceneError) as err:
+            motion_from_config({"type": "irregular", "spectrum": "torsethaugen", **table})
+        assert (err.value.key, err.value.value) == (key, value)
+        assert allowed in err.value.allowed
+
+
+def test_torsethaugen_sea_from_keys_spans_both_peaks():
+    sea = motion_from_config({"type": "irregular", "spectrum": "torsethaugen", "hs": 4.0, "tp": 7.0,
+                              "components": 100})
+    tp2 = 6.6 * 4.0 ** (1 / 3) + 2.0  # the swell of a wind-dominated sea
+    assert sea.band == pytest.approx((0.5 * 2.0 * math.pi / tp2, 4.0 * 2.0 * math.pi / 7.0))
+    assert "Torsethaugen" in sea.description and "wind-dominated" in sea.description
+    assert 4.0 * math.sqrt(sea.waves.variance) == pytest.approx(4.0, rel=0.01)
