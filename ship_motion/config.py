@@ -268,7 +268,7 @@ class IrregularTable:
                                 doc="wave spectrum: JONSWAP (hs, tp, gamma), Ochi-Hubble's two peaks (hs, tp, "
                                     "shape: the wind sea; swell_hs, swell_tp, swell_shape: the swell), Torsethaugen's "
                                     "two peaks (hs, tp: wind sea and swell from the North Sea fit) or a directional "
-                                    "spectrum file (spectrum_file, ship_heading; hs, tp, heading, components not used)")
+                                    "spectrum file (spectrum_file, ship_heading; hs, tp, heading, components: the file's, an error if given)")
     gamma: float | None = motion_spec(None, ge=1.0, le=10.0, unit="-", default_text=f"{DEFAULT_SEA['gamma']:g}",
                                       doc="jonswap: peak enhancement factor (1: Pierson-Moskowitz)")
     shape: float | None = motion_spec(None, gt=0.0, le=20.0, unit="-", default_text="1",
@@ -343,6 +343,10 @@ class IrregularTable:
         own = {"jonswap": ("gamma",), "ochi_hubble": ("shape", "swell_hs", "swell_tp", "swell_shape"),
                "file": ("spectrum_file", "spectrum_record", "ship_heading")}
         if self.spectrum == "file":
+            for name in ("hs", "tp", "heading", "components"):  # the file gives them: a value set here is an error
+                if getattr(self, name) != DEFAULT_SEA[name]:
+                    raise SceneError(f"{path}.{name}", getattr(self, name), "absent with spectrum = 'file' (the "
+                                     "file's spectrum gives the sea's height, periods, directions and components)")
             for name in ("spreading", "directions", "omega_min", "omega_max"):
                 if getattr(self, name) is not None:
                     raise SceneError(f"{path}.{name}", getattr(self, name), "absent with spectrum = 'file' (the "

@@ -84,3 +84,15 @@ def test_several_records_need_spectrum_record(tmp_path):
     assert err.value.key == "motion.ship_heading"
     second = motion_from_config({**table, "spectrum_record": 1}, base_dir=tmp_path)
     assert "two.nc[1]" in second.description
+
+
+def test_keys_the_file_replaces_are_refused(tmp_path):
+    """hs, tp, heading and components describe a parametric sea: with a file they are an
+    error naming the key, not silently ignored."""
+    write_spectra(tmp_path / "sea.nc", from_directions=(45.0,))
+    table = {"type": "irregular", "spectrum": "file", "spectrum_file": "sea.nc", "ship_heading": 0.0}
+    motion_from_config(table, base_dir=tmp_path)
+    for key, value in (("hs", 4.0), ("tp", 12.0), ("heading", 90.0), ("components", 50)):
+        with pytest.raises(SceneError, match="absent with spectrum = 'file'") as err:
+            motion_from_config({**table, key: value}, base_dir=tmp_path)
+        assert err.value.key == f"motion.{key}"
