@@ -23,6 +23,7 @@ import numpy as np
 import pytest
 
 from towcable_fmu import contract
+from towcable_fmu.run_io import read_csv
 from towcable_fmu.fmu_build import crosscheck as xc
 from towcable_fmu.fmu_build import native
 
@@ -64,7 +65,7 @@ def write_plan(path: Path, fmu_dir: Path, model: str, exp: xc.Experiment, output
         lines.append(f"param {kind[0]} {vr} {value!r}" if kind == "Real" else f"param S {vr} {value}")
     if inputs_csv is not None:
         lines.append(f"inputs {inputs_csv}")
-        header = xc.read_csv(inputs_csv)
+        header = read_csv(inputs_csv)
         lines += [f"input {variables[name][0]}" for name in list(header)[1:]]
     for name in outputs:
         vr, kind = variables[name]
@@ -168,7 +169,7 @@ def test_a_bad_parameter_is_an_error_the_c_host_sees_with_logging_on_or_off(host
 @pytest.mark.parametrize("name", MODELS)
 def test_c_host_reproduces_the_fmpy_reference(host, crosscheck, name, tmp_path):
     folder = crosscheck[name]
-    ref = xc.read_csv(folder / f"{name}_ref.csv")
+    ref = read_csv(folder / f"{name}_ref.csv")
     exp = xc.read_opt(folder / f"{name}_ref.opt")
     inputs = folder / f"{name}_in.csv"
     fmu_dir = tmp_path / name
@@ -180,13 +181,13 @@ def test_c_host_reproduces_the_fmpy_reference(host, crosscheck, name, tmp_path):
     proc = run_host(host, fmu_dir, plan, out)
     assert proc.returncode == 0, proc.stderr
     assert f"instance {INSTANCES}: largest difference to instance 1: 0\n" in proc.stdout
-    got = xc.read_csv(out)
+    got = read_csv(out)
     # Round-off, for a model that amplifies it (TowCable: the stiff sheave contact turns a
     # 1e-14 difference into 1e-9 relative within 10 s): what fmpy itself shows when every
     # input moves by one unit in the last place.
     sensitivity = {var: 0.0 for var in outputs}
     if inputs.exists():
-        nudged = {k: v if k == "time" else np.nextafter(v, np.inf) for k, v in xc.read_csv(inputs).items()}
+        nudged = {k: v if k == "time" else np.nextafter(v, np.inf) for k, v in read_csv(inputs).items()}
         moved = xc.simulate(folder / f"{name}.fmu", exp, nudged, tuple(outputs))
         sensitivity = {var: np.max(np.abs(moved[var] - ref[var])) for var in outputs}
     assert_round_off(got, ref, outputs, sensitivity)
@@ -201,7 +202,7 @@ def test_c_host_sets_parameters_as_fmpy_does(host, crosscheck, tmp_path):
     exp = xc.read_opt(folder / f"{name}_ref.opt")
     inputs = folder / f"{name}_in.csv"
     outputs = ["winch.phi_sp", "winch.phi_sp_rate"]
-    ref = xc.simulate(folder / f"{name}.fmu", exp, xc.read_csv(inputs), tuple(outputs), params)
+    ref = xc.simulate(folder / f"{name}.fmu", exp, read_csv(inputs), tuple(outputs), params)
     fmu_dir = tmp_path / name
     with zipfile.ZipFile(folder / f"{name}.fmu") as z:
         z.extractall(fmu_dir)
@@ -209,7 +210,7 @@ def test_c_host_sets_parameters_as_fmpy_does(host, crosscheck, tmp_path):
     out = tmp_path / "host.csv"
     proc = run_host(host, fmu_dir, plan, out)
     assert proc.returncode == 0, proc.stderr
-    got = xc.read_csv(out)
+    got = read_csv(out)
     assert_round_off(got, ref, outputs)
     assert ref["winch.phi_sp"][0] != 3.8 and np.ptp(ref["winch.phi_sp"]) > 0  # the parameters took effect
 
@@ -234,12 +235,12 @@ def test_crosscheck_artefacts_follow_the_rules_and_fmpy_reproduces_them(fmu_path
     ref_text = (folder / f"{name}_ref.csv").read_text(encoding="utf-8")
     header = ref_text.splitlines()[0].split(",")
     assert header[0] == '"time"' and all(h.startswith('"') and h.endswith('"') for h in header)
-    ref = xc.read_csv(folder / f"{name}_ref.csv")
+    ref = read_csv(folder / f"{name}_ref.csv")
     assert 1 <= len(ref) - 1 <= 10 and set(list(ref)[1:]) <= set(spec.names("output"))
     assert ref["time"][0] == opt.start and ref["time"][-1] == opt.stop
     inputs_csv = folder / f"{name}_in.csv"
     assert inputs_csv.exists() == bool(spec.names("input"))
-    inputs = xc.read_csv(inputs_csv) if inputs_csv.exists() else None
+    inputs = read_csv(inputs_csv) if inputs_csv.exists() else None
     if inputs is not None:
         assert list(inputs)[1:] == list(spec.names("input"))
         assert inputs["time"][0] <= opt.start and inputs["time"][-1] >= opt.stop

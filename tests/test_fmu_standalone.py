@@ -27,6 +27,7 @@ from towcable_fmu import contract, machine_cache
 from towcable_fmu.fmu_build import crosscheck as xc
 from towcable_fmu.fmu_build import native
 from towcable_fmu.fmu_build.runtime import glibc_needed
+from towcable_fmu.run_io import read_csv
 
 from test_fmu_native import assert_round_off, write_plan
 
@@ -125,7 +126,7 @@ def test_standalone_towcable_runs_in_a_c_host_with_every_python_hidden(host, sta
     nudged = {k: v if k == "time" else np.nextafter(v, np.inf) for k, v in inputs.items()}
     moved = xc.simulate(fmu_paths[name], exp, nudged, exp.outputs)
     sensitivity = {var: np.max(np.abs(moved[var] - ref[var])) for var in exp.outputs}
-    assert_round_off(xc.read_csv(tmp_path / "out.csv"), ref, list(exp.outputs), sensitivity)
+    assert_round_off(read_csv(tmp_path / "out.csv"), ref, list(exp.outputs), sensitivity)
 
 
 @pytest.mark.slow
@@ -154,7 +155,7 @@ def test_standalone_towcable_with_its_kernels_compiles_nothing_on_a_machine_with
     assert "compiled the numerical kernels" not in proc.stderr, proc.stderr[-3000:]
     assert any((tmp_path / "new-machine" / "kernels").glob(f"*/{machine_cache.CARRIED_MARK}"))
     ref = xc.simulate(fmu_paths["TowCable"], exp, inputs, exp.outputs)
-    out = xc.read_csv(tmp_path / "out.csv")
+    out = read_csv(tmp_path / "out.csv")
     for name in exp.outputs:
         assert np.allclose(out[name], ref[name], rtol=1e-6, atol=1e-6 * (1.0 + np.max(np.abs(ref[name])))), name
 

@@ -20,7 +20,6 @@ The reference runs are fmpy's ``simulate_fmu`` on the communication grid of
 
 from __future__ import annotations
 
-import csv
 import math
 import shutil
 from dataclasses import dataclass
@@ -86,13 +85,6 @@ def write_csv(path: str | Path, columns: Mapping[str, np.ndarray]) -> Path:
         for row in zip(*(np.asarray(columns[n], dtype=float) for n in names)):
             f.write(",".join(repr(float(v)) for v in row) + "\n")
     return Path(path)
-
-
-def read_csv(path: str | Path) -> dict[str, np.ndarray]:
-    """Columns of a cross-check CSV by name (quotes of the header removed)."""
-    with open(path, newline="", encoding="utf-8") as f:
-        rows = list(csv.reader(f))
-    return {name: np.array([float(r[j]) for r in rows[1:]]) for j, name in enumerate(rows[0])}
 
 
 def write_opt(path: str | Path, exp: Experiment) -> Path:
