@@ -277,3 +277,91 @@ def test_explicit_scene_in_the_fmu_is_bit_identical_to_the_standalone_run_and_ro
     assert second == first
     fmu.fmu.freeFMUstate(state)
     fmu.free()
+
+
+def test_top_motion_from_the_kept_drive_piece_is_the_drives():
+    """The top node from the drive piece's quintics (the step's fast path) against the drive's
+    Hermite evaluation, across pieces, before and after the table, with the ship rotating in
+    some pieces (then the general evaluation itself)."""
+    from towcable_fmu.nodal.explicit import new_top_piece, prescribe_top_fast
+    from towcable_fmu.nodal.integrators import prescribe_top_with
+
+    rng = np.random.default_rng(5)
+    drive_t = np.array([0.0, 0.1, 0.25, 0.3, 0.5])
+    drive_x = rng.normal(0.0, 1.0, (5, 3, 7))
+    drive_x[:3, :, 3:6] = 0.0  # no rotation in the first two pieces; rotation from knot 3 on
+    top_point = np.array([0.4, -0.2, -1.0])
+    piece = new_top_piece()
+    ship, basis = np.empty((3, 6)), np.empty((6, 3))
+    times = np.sort(np.concatenate([rng.uniform(-0.05, 0.6, 300), drive_t]))
+    fast, ref = np.zeros((times.size, 3, 3)), np.zeros((times.size, 3, 3))
+    for i, t in enumerate(times):
+        prescribe_top_fast(True, top_point, drive_t, drive_x, t, fast[i, 0], fast[i, 1], fast[i, 2], ship, basis, piece)
+        prescribe_top_with(True, top_point, drive_t, drive_x, t, ref[i, 0], ref[i, 1], ref[i, 2], ship, basis)
+    plain = int(np.sum(times <= 0.25))
+    for row in range(3):  # position, velocity, acceleration: to round-off of their size over the run
+        assert np.allclose(fast[:, row], ref[:, row], rtol=0.0, atol=1e-12 * np.max(np.abs(ref[:, row])))
+    assert plain > 50
+
+
+def _reference_step(sim: NodalSimulation, drive: tuple, t: float, h: float, q: np.ndarray, v: np.ndarray,
+                    a: np.ndarray) -> None:
+    """One leapfrog step from time ``t`` [s] written out in numpy on the implicit path's
+    residual, in place: forces minus cable_residual at zero acceleration, each free node's
+    3x3 mass the row sums of the residual's mass matrices (its change when every node
+    accelerates alike by e_k), the top node from the drive (prescribe_top)."""
+    from towcable_fmu.nodal.assembly import cable_residual
+    from towcable_fmu.nodal.integrators import prescribe_top
+
+    m = sim.model
+    n = q.size
+    r0, r1 = np.empty(n), np.empty(n)
+    v[3:] += 0.5 * h * a[3:]
+    q[3:] += h * v[3:]
+    prescribe_top(m, drive[0], drive[1], t + h, q, v, a)
+    cable_residual(m, q, v, np.zeros(n), t + h, r0)
+    masses = np.empty((m.n_nodes, 3, 3))
+    for k in range(3):
+        cable_residual(m, q, v, np.tile(np.eye(3)[k], m.n_nodes), t + h, r1)
+        masses[:, :, k] = (r1 - r0).reshape(-1, 3)
+    a[3:] = np.linalg.solve(masses[1:], -r0.reshape(-1, 3)[1:, :, None])[:, :, 0].ravel()
+    v[3:] += 0.5 * h * a[3:]
+
+
+@pytest.mark.parametrize("elements", [12, 40, 140])  # the step's arrays at strides 40, 136 and the node count
+def test_the_compiled_step_is_a_leapfrog_on_cable_residual(elements):
+    """The compiled step (structure-of-arrays rows, vectorised, fused multiply-adds, the top
+    from the kept drive piece) against :func:`_reference_step`, an independent computation,
+    step by step from the reference's states: the snapping cable released straight from a
+    top 0.3 m above the surface (it falls, goes slack and taut, its Gauss points cross the
+    surface), with a current, lift and a body of height: equal to round-off at every step."""
+    from towcable_fmu.nodal.explicit import leapfrog_recording
+
+    overrides = {"cable.segments[0].elements": elements, "cable.top.position": [0.0, 0.0, 0.3],
+                 "statics.enabled": False, "towbody.height": 0.3,
+                 "water.current": {"type": "linear", "velocity": [0.3, -0.1, 0.0], "gradient": [0.05, 0.0, 0.0]},
+                 "towbody.lift": {"area": 0.05, "coefficient": 0.4, "direction": [0.0, 0.6, -0.8],
+                                  "axis": [1.0, 0.0, 0.0]}}
+    h = load_scene("snapping_cable_nodal", {**overrides, "solver.integrator": "genalpha"}).explicit_step()
+    sim = NodalSimulation.from_scene("snapping_cable_nodal", {**overrides, "solver.time_step": h})
+    sim.initialize()
+    steps = 200 if elements < 100 else 40
+    drive = sim._drive(np.array([0.0, (steps + 2) * h]), 10 * h)
+    q, v, a = sim.state.q.copy(), sim.state.v.copy(), sim.state.x.copy()
+    crossing, slack = False, False
+    values = np.zeros((1, 14))
+    for step in range(steps):
+        t = step * h
+        sim.state.q[:], sim.state.v[:], sim.state.x[:] = q, v, a
+        sim.state.clock[0] = t
+        assert leapfrog_recording(sim.model, sim._lumped, sim.options, sim.state, np.array([t + h]), *drive, values,
+                                  sim._interpolant, False, t + h) == 1
+        _reference_step(sim, drive, t, h, q, v, a)
+        # (the accelerations carry the strain's round-off times EA/m, the stiff axial law: up to
+        # 3e-10 of their largest here, and the velocities h/2 times that)
+        for mine, ref, tol in ((sim.state.q, q, 1e-12), (sim.state.v, v, 1e-10), (sim.state.x, a, 1e-8)):
+            assert np.allclose(mine, ref, rtol=0.0, atol=tol * np.max(np.abs(ref))), step
+        wet = q[2::3] < 0.0
+        crossing |= wet.any() and not wet.all()
+        slack |= bool(np.any(np.linalg.norm(np.diff(q.reshape(-1, 3), axis=0), axis=1) < sim.model.L0))
+    assert crossing and slack

@@ -54,7 +54,7 @@ def test_forces_equal_minus_the_residual_at_zero_acceleration(overrides, place):
     mass = node_masses(m)
     f = np.empty(q.size)
     added = np.zeros((m.n_nodes, 6))
-    lumped_forces(m, mass, q, v, f, added)
+    lumped_forces(m, mass, q, v, f, added, np.zeros(q.size))
     r = np.empty(q.size)
     cable_residual(m, q, v, np.zeros(q.size), 0.0, r)
     assert np.max(np.abs(f + r)) <= 1e-11 * np.max(np.abs(r))

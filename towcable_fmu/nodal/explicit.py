@@ -7,9 +7,10 @@
   only, as :func:`towcable_fmu.hydro.cable.point_load` applies it), the body's added mass
   rho V C_m,b (its submerged fraction) to the last node. The 3x3 mass of a node is refreshed
   at every step (the added mass follows the elements' directions) and solved in closed form.
-* Forces: :func:`towcable_fmu.nodal.explicit_kernel.cable_forces`, once per step: the
-  implicit path's element and body laws (its residual at zero acceleration, tested), with
-  the model's constants read once per call and nothing allocated per step.
+* Forces and accelerations: :func:`towcable_fmu.nodal.explicit_kernel.leapfrog_update`,
+  once per step: the implicit path's element and body laws (its residual at zero
+  acceleration, tested), with the model's constants read once per call, the state in
+  vectorised rows and nothing allocated per step.
 * Leapfrog, kick-drift-kick: v += h/2 a; q += h v; a = M^-1 F(q, v); v += h/2 a. The
   velocity-dependent forces (material damping, drag on cable and body) see the half-step
   velocity v_{n+1/2} = (q_{n+1} - q_n)/h: first order in h in the damping, one force
@@ -17,7 +18,9 @@
   :mod:`towcable_fmu.numerics.explicit_step` (exact for this lag; a predicted velocity,
   v_{n+1/2} + theta h a_n, halves the damping's error but lowers the limit, by 18 % at
   theta = 0.4 and the snapping cable's zeta = 0.27).
-* The top node follows the ship from the drive table at the end of each step.
+* The top node follows the ship from the drive table at the end of each step (while the
+  ship does not rotate, from the power-basis quintics of the drive's current piece:
+  :func:`prescribe_top_fast`).
 
 The state is (q, v, a) at the step's end (v the full-step velocity, a the accelerations the
 next step's first kick uses): saved and restored bit for bit, and the run continues as if
@@ -33,7 +36,8 @@ import math
 import numpy as np
 
 from ..kernel_cache import njit
-from .explicit_kernel import cable_forces, explicit_outputs, lumped_cable, lumped_forces, solve_accelerations
+from .explicit_kernel import (STEP_FASTMATH, explicit_outputs, leapfrog_update, load_state, lumped_cable, lumped_forces,
+                              new_work, set_top, store_state)
 from .integrators import (CLOCK_TIME, STAT_RESIDUALS, STAT_STEPS, Interpolant, NodalOptions, NodalState,
                           interpolate_step, prescribe_top_with)
 from .model import NodalModel
@@ -54,16 +58,94 @@ def node_masses(m: NodalModel) -> np.ndarray:
 def lumped_accelerations(m: NodalModel, mass: np.ndarray, q: np.ndarray, v: np.ndarray, f: np.ndarray,
                          added: np.ndarray, a: np.ndarray) -> None:
     """Accelerations [m/s^2] of the free nodes into ``a`` (node 0's entries kept): the forces
-    at positions ``q`` [m] and velocities ``v`` [m/s] (:func:`.explicit_kernel.cable_forces`)
-    through the lumped masses ``mass`` [kg] (:func:`node_masses`) and the cable's and body's
-    added masses. ``f`` (q.size) and ``added`` (n_nodes, 6) are scratch."""
-    lumped_forces(m, mass, q, v, f, added)
-    solve_accelerations(m.water.enabled, mass, 1.0 / mass, f, added, a)
+    at positions ``q`` [m] and velocities ``v`` [m/s] through the lumped masses ``mass`` [kg]
+    (:func:`node_masses`) and the cable's and body's added masses
+    (:func:`.explicit_kernel.lumped_forces`). ``f`` (q.size) and ``added`` (n_nodes, 6) are
+    scratch."""
+    lumped_forces(m, mass, q, v, f, added, a)
+
+
+#: entries of a drive piece's record (:func:`_top_piece`): its index, the times it serves
+#: (lo, hi], 1/dt [1/s], 1.0 if the top point moves with the ship's origin in it (no
+#: rotation), then the top point's coordinates as quintics in s = (t - t_k)/dt (3 x 6)
+_P_INDEX, _P_LO, _P_HI, _P_INV_DT, _P_PLAIN, _P_COEF = 0, 1, 2, 3, 4, 5
+_PIECE_ENTRIES = 5 + 18
+
+
+@njit(cache=True)
+def new_top_piece() -> np.ndarray:
+    """A drive piece's record that serves no time (the first use computes one)."""
+    piece = np.zeros(_PIECE_ENTRIES)
+    piece[_P_LO], piece[_P_HI] = np.inf, -np.inf
+    return piece
+
+
+@njit(cache=True)
+def _top_piece(drive_t: np.ndarray, drive_x: np.ndarray, top_point: np.ndarray, t: float,
+               piece: np.ndarray) -> None:
+    """The record of the drive's piece at time ``t`` [s] into ``piece``: the piece
+    :func:`~towcable_fmu.runtime.drive.evaluate_drive_with` uses at t (t_k < t <= t_k+1,
+    the first and last piece beyond the table) and, where the ship does not rotate in it
+    (every rotation channel's value, rate and acceleration 0 at both knots, so its quintic
+    Hermite is 0), the power-basis coefficients of the top point's coordinates: the ship's
+    quintic Hermite of the knots' values, rates and accelerations plus the top point [m]."""
+    nk = drive_t.shape[0]
+    k = min(max(np.searchsorted(drive_t, t) - 1, 0), nk - 2)
+    dt = drive_t[k + 1] - drive_t[k]
+    piece[_P_INDEX] = k
+    piece[_P_LO] = -np.inf if k == 0 else drive_t[k]
+    piece[_P_HI] = np.inf if k == nk - 2 else drive_t[k + 1]
+    piece[_P_INV_DT] = 1.0 / dt
+    plain = True
+    for knot in (k, k + 1):
+        for d in range(3):
+            for c in range(3, 6):
+                plain = plain and drive_x[knot, d, c] == 0.0
+    piece[_P_PLAIN] = 1.0 if plain else 0.0
+    for c in range(3):
+        p0, b0, c0 = drive_x[k, 0, c], dt * drive_x[k, 1, c], dt * dt * drive_x[k, 2, c]
+        p1, b1, c1 = drive_x[k + 1, 0, c], dt * drive_x[k + 1, 1, c], dt * dt * drive_x[k + 1, 2, c]
+        i = _P_COEF + 6 * c
+        piece[i] = p0 + top_point[c]
+        piece[i + 1] = b0
+        piece[i + 2] = 0.5 * c0
+        piece[i + 3] = -10.0 * p0 - 6.0 * b0 - 1.5 * c0 + 10.0 * p1 - 4.0 * b1 + 0.5 * c1
+        piece[i + 4] = 15.0 * p0 + 8.0 * b0 + 1.5 * c0 - 15.0 * p1 + 7.0 * b1 - c1
+        piece[i + 5] = -6.0 * p0 - 3.0 * b0 - 0.5 * c0 + 6.0 * p1 - 3.0 * b1 + 0.5 * c1
+
+
+@njit(cache=True, inline="always")
+def prescribe_top_fast(top_on_ship: bool, top_point: np.ndarray, drive_t: np.ndarray, drive_x: np.ndarray,
+                       t: float, q: np.ndarray, v: np.ndarray, a: np.ndarray, ship: np.ndarray, basis: np.ndarray,
+                       piece: np.ndarray) -> None:
+    """:func:`~.integrators.prescribe_top_with` (the top node's position [m], velocity [m/s]
+    and acceleration [m/s^2] at time ``t`` [s] into the first entries of ``q``, ``v``, ``a``)
+    with the drive's piece kept in ``piece`` (:func:`new_top_piece`) while t stays in it:
+    where the ship does not rotate, three quintics by Horner's rule (the same polynomial as
+    the drive's Hermite basis, to round-off) instead of the six channels' basis and the
+    search for the piece at every step."""
+    if not top_on_ship or drive_t.shape[0] < 2:
+        prescribe_top_with(top_on_ship, top_point, drive_t, drive_x, t, q, v, a, ship, basis)
+        return
+    if not piece[_P_LO] < t <= piece[_P_HI]:
+        _top_piece(drive_t, drive_x, top_point, t, piece)
+    if piece[_P_PLAIN] == 0.0:
+        prescribe_top_with(top_on_ship, top_point, drive_t, drive_x, t, q, v, a, ship, basis)
+        return
+    inv_dt = piece[_P_INV_DT]
+    k = int(piece[_P_INDEX])
+    s = (t - drive_t[k]) / (drive_t[k + 1] - drive_t[k])  # (as the drive computes it: the same s)
+    for c in range(3):
+        i = _P_COEF + 6 * c
+        c0, c1, c2, c3, c4, c5 = piece[i], piece[i + 1], piece[i + 2], piece[i + 3], piece[i + 4], piece[i + 5]
+        q[c] = c0 + s * (c1 + s * (c2 + s * (c3 + s * (c4 + s * c5))))
+        v[c] = (c1 + s * (2.0 * c2 + s * (3.0 * c3 + s * (4.0 * c4 + s * 5.0 * c5)))) * inv_dt
+        a[c] = (2.0 * c2 + s * (6.0 * c3 + s * (12.0 * c4 + s * 20.0 * c5))) * (inv_dt * inv_dt)
 
 
 # error_model "numpy": a division by zero gives inf or NaN (the run stops at a non-finite
 # output) instead of a Python exception, whose checks halve the speed of the force loop
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", fastmath=STEP_FASTMATH)
 def leapfrog_recording(m: NodalModel, mass: np.ndarray, options: NodalOptions, state: NodalState,
                        samples: np.ndarray, drive_t: np.ndarray, drive_x: np.ndarray, values: np.ndarray,
                        ip: Interpolant, interpolate: bool, t_land: float) -> int:
@@ -72,8 +154,9 @@ def leapfrog_recording(m: NodalModel, mass: np.ndarray, options: NodalOptions, s
     :func:`~towcable_fmu.nodal.integrators.advance_recording` (landing on every sample, or with
     ``interpolate`` keeping the steps, never passing ``t_land`` [s], and reading samples inside
     a step from the cubic Hermite interpolant of its ends). ``mass``: :func:`node_masses`.
-    The constants are read out of ``m`` once (:func:`.explicit_kernel.lumped_cable`) and
-    nothing is allocated in the loop.
+    The constants are read out of ``m`` once (:func:`.explicit_kernel.lumped_cable`), the
+    state is stepped in the kernel's rows (:func:`.explicit_kernel.leapfrog_update`) and
+    written back at the samples, and nothing is allocated in the loop.
 
     Returns
     -------
@@ -84,12 +167,16 @@ def leapfrog_recording(m: NodalModel, mass: np.ndarray, options: NodalOptions, s
     q, v, a, clock, stats = state.q, state.v, state.x, state.clock, state.stats
     n = q.size
     c = lumped_cable(m, mass)
-    n_nodes, wet, body_on, closed, water = c.n_nodes, c.wet, c.body_on, c.closed, c.water
-    gravity, end_mass = c.gravity, c.end_mass
-    elements, hydro, kind, flow, body, inv_mass = c.elements, c.hydro, c.kind, c.flow, c.body, c.inv_mass
-    f = np.empty(n)
-    added = np.zeros((n_nodes, 6))
+    stride = c.stride
+    work = new_work(c)
+    load_state(q, v, a, work, stride)
+    # (the fields in locals: a named tuple of arrays passed inside the loop is reference-counted field by field)
+    n_nodes, closed, wet, body_on, water, gravity = c.n_nodes, c.closed, c.wet, c.body_on, c.water, c.gravity
+    end_mass, flow, body, table = c.end_mass, c.flow, c.body, c.table
+    elements, hydro, kind = c.elements, c.hydro, c.kind
     ship, basis = np.empty((3, 6)), np.empty((6, 3))
+    top_q, top_v, top_a = np.empty(3), np.empty(3), np.empty(3)
+    piece = new_top_piece()
     on_ship, top_point = m.top_on_ship, m.top_point
     start, state_t, t0 = ip.start, ip.state, ip.t0
     h_nom = options.h_max
@@ -106,26 +193,18 @@ def leapfrog_recording(m: NodalModel, mass: np.ndarray, options: NodalOptions, s
             else:
                 h = min(h, target - t)
             if t + h > target + tol:  # the sample falls inside this step: keep its start
+                store_state(work, stride, q, v, a)
                 for i in range(n):
                     start[0, i], start[1, i], start[2, i] = q[i], v[i], a[i]
                 t0[0] = t
-            half = 0.5 * h
-            for i in range(3, n):
-                v[i] += half * a[i]
-                q[i] += h * v[i]
-            prescribe_top_with(on_ship, top_point, drive_t, drive_x, t + h, q, v, a, ship, basis)
-            if closed:  # (two copies of the loop: the closed-form drag's has no call)
-                cable_forces(n_nodes, wet, body_on, True, water, gravity, end_mass, elements, hydro, kind, flow, body,
-                             q, v, f, added)
-            else:
-                cable_forces(n_nodes, wet, body_on, False, water, gravity, end_mass, elements, hydro, kind, flow,
-                             body, q, v, f, added)
-            solve_accelerations(wet, mass, inv_mass, f, added, a)
-            for i in range(3, n):
-                v[i] += half * a[i]
+            prescribe_top_fast(on_ship, top_point, drive_t, drive_x, t + h, top_q, top_v, top_a, ship, basis, piece)
+            set_top(work, stride, top_q, top_v, top_a)
+            leapfrog_update(n_nodes, closed, stride, wet, body_on, water, gravity, end_mass, flow, body, hydro, kind,
+                            table, work, h)
             clock[CLOCK_TIME] = t + h
             stats[STAT_STEPS] += 1
             stats[STAT_RESIDUALS] += 1
+        store_state(work, stride, q, v, a)
         row = values[s]
         t = clock[CLOCK_TIME]
         if target >= t - tol:
