@@ -8,14 +8,25 @@ case's 0.5 ms samples (interpolated outputs, the drive table, Python). Cost per 
 step [ns] = time / (steps x nodes), in CPU time of this process (the machine is shared:
 CPU time is less disturbed by the other jobs than wall time, which is also given) and
 median of REPEATS runs of 15 s. MoorDyn (RK4, 20 segments, 0.382 ms, the case's harness)
-in the same run: its wall time per node and force evaluation (4 per RK4 step).
+in the same run: its wall time per node and force evaluation (4 per RK4 step). The profile:
+the kernel's time per step at 4, 16 and 64 elements, in the scene and with the whole cable
+dry, fitted by a line: a cost per step and one per node, whose wet - dry difference is the
+water's share (drag and buoyancy at the Gauss points, added mass, the 3x3 solve).
 
-Run: ``python benchmarks/explicit_kernel.py``. Writes ``results/explicit_kernel.md``.
+With ``--baseline DIR`` (a checkout of an earlier commit, e.g. ``git archive <commit> | tar
+-x -C DIR``) the scene default's kernel is also timed with the package imported from DIR,
+in processes alternating with the current code's (same run, medians): the before/after.
+
+Run: ``python benchmarks/explicit_kernel.py [--baseline DIR]``. Writes ``results/explicit_kernel.md``.
 """
 
 from __future__ import annotations
 
+import argparse
+import json
+import os
 import statistics
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -34,21 +45,28 @@ CASES = (("scene default, 1.27 Hz", 1.27, 16, 0.000247), ("2 elements, 0.807 Hz"
          ("40 elements, 0.807 Hz", 0.807, 40, None))
 
 
-def _simulation(frequency: float, elements: int, step: float | None):
+#: meshes of the split into a cost per step and a cost per node (1.27 Hz, one step for all)
+SPLIT_ELEMENTS, SPLIT_STEP = (4, 16, 64), 0.00003
+#: the scene with the surface 1 km down: the whole cable and body dry (no drag, buoyancy, added mass)
+DRY = {"water.surface_z": -1000.0}
+
+
+def _simulation(frequency: float, elements: int, step: float | None, extra: dict | None = None):
     from towcable_fmu.nodal.simulation import NodalSimulation
     from towcable_fmu.scene import load_scene
 
-    overrides = {"motion.heave.period": 1.0 / frequency, "cable.segments[0].elements": elements}
+    overrides = {"motion.heave.period": 1.0 / frequency, "cable.segments[0].elements": elements, **(extra or {})}
     if step is None:
         step = load_scene("snapping_cable_nodal", {**overrides, "solver.integrator": "genalpha"}).explicit_step()
     return NodalSimulation.from_scene("snapping_cable_nodal", {**overrides, "solver.time_step": step})
 
 
-def kernel_cost(frequency: float, elements: int, step: float | None) -> dict:
-    """Median cost [ns per node per step] of the stepping kernel alone and of the whole run."""
+def kernel_cost(frequency: float, elements: int, step: float | None, extra: dict | None = None) -> dict:
+    """Median cost [ns per node per step] of the stepping kernel alone and of the whole run
+    (``extra``: scene overrides)."""
     from towcable_fmu.nodal.explicit import leapfrog_recording
 
-    sim = _simulation(frequency, elements, step)
+    sim = _simulation(frequency, elements, step, extra)
     sim.initialize()
     sim.run(0.05, interval=5e-4)  # kernels loaded
     nodes = sim.model.n_nodes
@@ -77,6 +95,50 @@ def kernel_cost(frequency: float, elements: int, step: float | None) -> dict:
             "speed": DURATION / statistics.median(run_wall)}
 
 
+def split_rows() -> list[list[str]]:
+    """The kernel's CPU time per step [ns] at SPLIT_ELEMENTS, wet and dry, and its least-squares
+    line a + b nodes: a the cost per step (kick, drift, the drive, the loop), b per node."""
+    rows, fits = [], {}
+    for label, extra in (("wet (scene)", None), ("dry (surface 1 km down)", DRY)):
+        nodes, per_step = [], []
+        for n in SPLIT_ELEMENTS:
+            r = kernel_cost(1.27, n, SPLIT_STEP, extra)
+            nodes.append(r["nodes"])
+            per_step.append(r["kernel_cpu"] * r["nodes"])
+        slope, intercept = np.polyfit(nodes, per_step, 1)
+        fits[label] = slope
+        rows.append([label] + [f"{c:.0f}" for c in per_step] + [f"{intercept:.0f}", f"{slope:.1f}"])
+    wet, dry = fits["wet (scene)"], fits["dry (surface 1 km down)"]
+    rows.append(["wet - dry (the water's loads and the 3x3 solve)", "", "", "", "", f"{wet - dry:.1f}"])
+    return rows
+
+
+#: alternations of the before/after processes (each the median of REPEATS runs)
+ROUNDS = 3
+
+
+def _scene_default_in_process(package_root: str | None) -> float:
+    """The scene default's kernel CPU cost [ns/node/step] measured in a new process, the
+    package imported from ``package_root`` (None: the current code)."""
+    env = dict(os.environ)
+    if package_root is not None:
+        env["PYTHONPATH"] = os.pathsep.join([package_root, env.get("PYTHONPATH", "")]).rstrip(os.pathsep)
+    out = subprocess.run([sys.executable, __file__, "--scene-default-only"], env=env, capture_output=True, text=True,
+                         check=True, cwd=Path(__file__).parent)
+    return json.loads(out.stdout.strip().splitlines()[-1])["kernel_cpu"]
+
+
+def before_after(baseline: str) -> tuple[float, float]:
+    """Medians [ns/node/step] of the scene default's kernel: the code at ``baseline`` and the
+    current code, measured in alternating processes (ROUNDS each)."""
+    before, after = [], []
+    for _ in range(ROUNDS):
+        before.append(_scene_default_in_process(baseline))
+        after.append(_scene_default_in_process(None))
+    print("before", before, "after", after, file=sys.stderr)
+    return statistics.median(before), statistics.median(after)
+
+
 def moordyn_cost() -> dict | None:
     """MoorDyn RK4 at 20 segments, 0.382 ms: wall time per node and force evaluation [ns]."""
     try:
@@ -91,18 +153,36 @@ def moordyn_cost() -> dict | None:
 
 
 def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--baseline", help="a checkout of an earlier commit: its kernel timed alternately")
+    parser.add_argument("--scene-default-only", action="store_true", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.scene_default_only:
+        label, f, n, h = CASES[0]
+        print(json.dumps(kernel_cost(f, n, h)))
+        return
+    comparison = before_after(args.baseline) if args.baseline else None
     rows = []
     for label, f, n, h in CASES:
         r = kernel_cost(f, n, h)
         rows.append([label, str(n), f"{r['h'] * 1e3:.4g}", str(r["steps"]), f"{r['kernel_cpu']:.1f}",
                      f"{r['kernel_wall']:.1f}", f"{r['run_cpu']:.1f}", f"{r['run_wall']:.1f}", f"{r['speed']:.0f}"])
         print(label, r, file=sys.stderr)
+    split = split_rows()
     md = moordyn_cost()
     lines = ["# The explicit kernel: cost per node and step\n", machine_header(),
              "- the machine was shared with other jobs (2 cores, up to 4 agents): wall times are noisy and high; "
              "CPU times of this process are the steadier figure.\n\n", __doc__.split("\n\n")[1].replace("\n", " "),
              "\n\n", markdown_table(["case", "elements", "step [ms]", "steps", "kernel CPU [ns/node/step]",
                                      "kernel wall", "whole run CPU", "whole run wall", "speed [x real time]"], rows)]
+    lines += [f"\nThe kernel's CPU time per step [ns] at {SPLIT_STEP * 1e3:g} ms, 1.27 Hz, split by a least-squares "
+              "line into a cost per step and one per node (same run, medians of each):\n\n",
+              markdown_table(["case"] + [f"{n} el" for n in SPLIT_ELEMENTS] + ["per step [ns]", "per node [ns]"],
+                             split)]
+    if comparison is not None:
+        lines.append(f"\nBefore and after, the scene default's kernel CPU time in alternating processes (medians of "
+                     f"{ROUNDS} processes of {REPEATS} runs): {comparison[0]:.1f} ns/node/step with the package from "
+                     f"`--baseline` ({args.baseline}), {comparison[1]:.1f} with this commit's.\n")
     if md is not None:
         lines.append(f"\nMoorDyn 2.7 RK4, 20 segments, 0.382 ms, 1.27 Hz, same run: {md['per_eval']:.0f} ns wall per "
                      f"node and force evaluation ({4 * md['per_eval']:.0f} per node and RK4 step, the Python coupling "
