@@ -157,6 +157,8 @@ class IntegratorState(NamedTuple):
     jac_ship: np.ndarray  #: (3, 6) ship state at which the Jacobian was evaluated
     stats: np.ndarray    #: (6,) int64 counters (see STAT_NAMES)
     taut: np.ndarray     #: (ne,) int64 taut Gauss points of the tension-only elements (bit masks) at the clock's time
+    a_hist: np.ndarray   #: (2, nf) accelerations at the starts of the last two accepted steps (the predictor's history)
+    t_hist: np.ndarray   #: (2,) their times [s] (NaN: no history, e.g. after a start or a remeshing)
 
 
 class Workspace(NamedTuple):
@@ -186,7 +188,7 @@ def new_state(model: CableModel) -> IntegratorState:
     return IntegratorState(np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(4), np.zeros(4),
                            np.zeros(JAC_FIELDS), np.zeros(nf), np.zeros(nf), np.zeros((3, 6)),
                            np.zeros(len(STAT_NAMES), dtype=np.int64),
-                           np.zeros(model.el_len.shape[0], dtype=np.int64))
+                           np.zeros(model.el_len.shape[0], dtype=np.int64), np.zeros((2, nf)), np.full(2, np.nan))
 
 
 def new_workspace(model: CableModel) -> Workspace:
@@ -283,6 +285,7 @@ def initial_acceleration(model: CableModel, opt: SolverOptions, st: IntegratorSt
     st.abar[:] = st.a
     st.phi[3] = st.phi[2]
     st.clock[CLOCK_TIME] = t
+    st.t_hist[:] = np.nan
     return True
 
 
@@ -314,6 +317,16 @@ def _winch_step(opt, st, h, sp, sp_rate, am, af, gamma, beta):
 
 
 @njit(cache=True, inline="always")
+def _predicting(st, h):
+    """True when the last two accepted steps had the size h [s] (to 1 %): the predictor
+    extrapolates the accelerations from them (else a_{n+1} = a_n)."""
+    t = st.clock[CLOCK_TIME]
+    h1 = t - st.t_hist[0]
+    h0 = st.t_hist[0] - st.t_hist[1]
+    return abs(h1 - h) <= 0.01 * h and abs(h0 - h) <= 0.01 * h  # (False for NaN)
+
+
+@njit(cache=True, inline="always")
 def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
     """One step attempt of size h: STEP_ACCEPTED, STEP_NOT_CONVERGED or STEP_ERROR_TOO_LARGE."""
     t1 = st.clock[CLOCK_TIME] + h
@@ -323,9 +336,18 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
     bp = h * h * beta * scale
     gp = h * gamma * scale
     n = model.free_dofs.shape[0]
+    predict = _predicting(st, h)
     for i in range(n):
         k = model.free_dofs[i]
-        bar_new = (st.a[k] - am * st.abar[k]) / (1.0 - am)
+        if not predict:  # a_{n+1} = a_n
+            bar_new = (st.a[k] - am * st.abar[k]) / (1.0 - am)
+        else:  # the last change of a_n again, scaled by the ratio of the last two changes
+            d1 = st.a[k] - st.a_hist[0, k]
+            d0 = st.a_hist[0, k] - st.a_hist[1, k]
+            ratio = min(max(d1 / d0, -1.0), 1.0) if d0 != 0.0 else 0.0
+            guess = st.a[k] + ratio * d1
+            bar_new = ((1.0 - af) * guess + af * st.a[k] - am * st.abar[k]) / (1.0 - am)
+            st.a[k] = guess
         st.q[k] += h * st.v[k] + h * h * ((0.5 - beta) * st.abar[k] + beta * bar_new)
         st.v[k] += h * ((1.0 - gamma) * st.abar[k] + gamma * bar_new)
         st.abar[k] = bar_new
@@ -507,6 +529,10 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
             break
         if status == STEP_ACCEPTED:
             ws.step_start[0] = t
+            copy_into(st.a_hist[1], st.a_hist[0])
+            copy_into(st.a_hist[0], ws.a0)
+            st.t_hist[1] = st.t_hist[0]
+            st.t_hist[0] = t
             copy_into(st.taut, model.el_taut[TAUT_RESIDUAL])
             st.stats[STAT_STEPS] += 1
             st.clock[CLOCK_STEPS_SINCE_CUT] += 1.0
