@@ -158,7 +158,7 @@ class IntegratorState(NamedTuple):
     stats: np.ndarray    #: (6,) int64 counters (see STAT_NAMES)
     taut: np.ndarray     #: (ne,) int64 taut Gauss points of the tension-only elements (bit masks) at the clock's time
     a_hist: np.ndarray   #: (2, nf) accelerations at the starts of the last two accepted steps (the predictor's history)
-    t_hist: np.ndarray   #: (2,) their times [s] (NaN: no history, e.g. after a start or a remeshing)
+    h_hist: np.ndarray   #: (2,) the sizes of those steps [s] (0: none yet, e.g. after a start or a remeshing)
 
 
 class Workspace(NamedTuple):
@@ -188,7 +188,7 @@ def new_state(model: CableModel) -> IntegratorState:
     return IntegratorState(np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(4), np.zeros(4),
                            np.zeros(JAC_FIELDS), np.zeros(nf), np.zeros(nf), np.zeros((3, 6)),
                            np.zeros(len(STAT_NAMES), dtype=np.int64),
-                           np.zeros(model.el_len.shape[0], dtype=np.int64), np.zeros((2, nf)), np.full(2, np.nan))
+                           np.zeros(model.el_len.shape[0], dtype=np.int64), np.zeros((2, nf)), np.zeros(2))
 
 
 def new_workspace(model: CableModel) -> Workspace:
@@ -285,7 +285,7 @@ def initial_acceleration(model: CableModel, opt: SolverOptions, st: IntegratorSt
     st.abar[:] = st.a
     st.phi[3] = st.phi[2]
     st.clock[CLOCK_TIME] = t
-    st.t_hist[:] = np.nan
+    st.h_hist[:] = 0.0
     return True
 
 
@@ -320,10 +320,7 @@ def _winch_step(opt, st, h, sp, sp_rate, am, af, gamma, beta):
 def _predicting(st, h):
     """True when the last two accepted steps had the size h [s] (to 1 %): the predictor
     extrapolates the accelerations from them (else a_{n+1} = a_n)."""
-    t = st.clock[CLOCK_TIME]
-    h1 = t - st.t_hist[0]
-    h0 = st.t_hist[0] - st.t_hist[1]
-    return abs(h1 - h) <= 0.01 * h and abs(h0 - h) <= 0.01 * h  # (False for NaN)
+    return abs(st.h_hist[0] - h) <= 0.01 * h and abs(st.h_hist[1] - h) <= 0.01 * h
 
 
 @njit(cache=True, inline="always")
@@ -531,8 +528,8 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
             ws.step_start[0] = t
             copy_into(st.a_hist[1], st.a_hist[0])
             copy_into(st.a_hist[0], ws.a0)
-            st.t_hist[1] = st.t_hist[0]
-            st.t_hist[0] = t
+            st.h_hist[1] = st.h_hist[0]
+            st.h_hist[0] = h_try
             copy_into(st.taut, model.el_taut[TAUT_RESIDUAL])
             st.stats[STAT_STEPS] += 1
             st.clock[CLOCK_STEPS_SINCE_CUT] += 1.0
