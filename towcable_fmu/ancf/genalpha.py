@@ -33,6 +33,12 @@ where they differ (semi-smooth Newton). A step in which a tension-only element w
 taut or slack is taken again, shortened to end just past that instant
 (:func:`~towcable_fmu.ancf.slack.crossing_fraction`, ``locate_events``).
 
+Predictor: ``a_{n+1} = a_n + r (a_n - a_{n-1})`` per coordinate, with the ratio
+``r = (a_n - a_{n-1}) / (a_{n-1} - a_{n-2})`` of the last two changes clipped to [-1, 0]:
+a mode the step does not resolve alternates, damped by about ``-rho_inf`` a step, and is
+followed; a smooth trend (r > 0) is not extrapolated. Used after two accepted steps of
+the same size (the history ``a_hist``, ``h_hist`` is part of the state).
+
 Convergence test (Hairer & Wanner): the estimated remaining error
 ``theta/(1-theta) * |dq|`` is below ``newton_tol``, with the contraction rate theta of
 the previous step used on the first iteration; ``|dq|`` is the largest correction
@@ -338,10 +344,11 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
         k = model.free_dofs[i]
         if not predict:  # a_{n+1} = a_n
             bar_new = (st.a[k] - am * st.abar[k]) / (1.0 - am)
-        else:  # the last change of a_n again, scaled by the ratio of the last two changes
+        else:  # an alternation the step does not resolve, continued: the last change of a_n
+            # again, scaled by the ratio r of the last two changes where r < 0 (a trend, r > 0, is not extrapolated)
             d1 = st.a[k] - st.a_hist[0, k]
             d0 = st.a_hist[0, k] - st.a_hist[1, k]
-            ratio = min(max(d1 / d0, -1.0), 1.0) if d0 != 0.0 else 0.0
+            ratio = min(max(d1 / d0, -1.0), 0.0) if d0 != 0.0 else 0.0
             guess = st.a[k] + ratio * d1
             bar_new = ((1.0 - af) * guess + af * st.a[k] - am * st.abar[k]) / (1.0 - am)
             st.a[k] = guess
