@@ -11,9 +11,9 @@ blocks of 100 steps):
   the model plus the slave's Python glue);
 * TowCable: Newton iterations, residual evaluations and factorisations per step, and
   the per-call costs of a residual, a factorisation (iteration matrix and banded LU),
-  a back-solve and the outputs (compiled loops over the same call, medians over 6
-  states 10 s apart, as ``bounds.py``), with the time left for the rest of the step
-  (Python around the compiled step, the integrator's own loops);
+  a back-solve and the outputs (each a compiled loop over the same call at the last
+  state), with the time left for the rest of the step (Python around the compiled
+  step, the integrator's own loops);
 * the standalone ``Simulation.step`` of the same scene at the same step, and
   ``towcable run full_scale --set solver.time_step=0.01`` (``Simulation.run``).
 
@@ -30,7 +30,9 @@ import numpy as np
 from numba import njit
 
 from common import machine_header, markdown_table, per_call_us
-from towcable_fmu.ancf.system import residual
+from towcable_fmu.ancf.output_kernel import output_values
+from towcable_fmu.ancf.system import iteration_matrix, residual
+from towcable_fmu.numerics.banded import band_lu, band_solve
 
 STEP = 0.01
 SETTLE = 20.0
@@ -43,6 +45,26 @@ CALLS = 200
 def _residuals(model, q, v, a, t, ship, r, n):
     for _ in range(n):
         residual(model, q, v, a, t, ship, r)
+
+
+@njit(cache=True)
+def _factorisations(model, q, v, t, ship, ab, ipiv, n):
+    for _ in range(n):
+        iteration_matrix(model, q, v, t, ship, 1.0, 1e-3, 1e-5, ab)
+        band_lu(ab, model.free_dofs.shape[0], model.kl, model.ku, ipiv)
+
+
+@njit(cache=True)
+def _solves(model, ab, ipiv, rhs, n):
+    for _ in range(n):
+        rhs[:] = 1.0
+        band_solve(ab, model.free_dofs.shape[0], model.kl, model.ku, ipiv, rhs)
+
+
+@njit(cache=True)
+def _outputs(model, q, v, a, phi, t, ship, scene, r, n):
+    for _ in range(n):
+        output_values(model, q, v, a, phi, t, ship, scene, r)
 
 
 def _slaves():
@@ -160,33 +182,20 @@ def profile() -> dict[str, float]:
 
 
 def _part_costs(sim) -> dict[str, float]:
-    """Per-call costs [s] at the current state of ``sim`` (compiled loops)."""
-    from towcable_fmu.numerics.banded import band_lu, band_solve
-    from towcable_fmu.ancf.output_kernel import output_values
-    from towcable_fmu.ancf.system import iteration_matrix
-
+    """Per-call costs [s] at the current state of ``sim`` (compiled loops of ``CALLS`` calls:
+    a call from Python would add the unboxing of the model)."""
     m, st, ws = sim.model, sim.state, sim.workspace
-    n = m.free_dofs.size
-    rhs = np.ones(n)
+    rhs = np.ones(m.free_dofs.size)
     ab = ws.ab.copy()
     ipiv = ws.ipiv.copy()
     r = np.empty_like(ws.r)
-
-    def factorise():
-        iteration_matrix(m, st.q, st.v, sim.time, ws.ship, 1.0, 1e-3, 1e-5, ab)
-        band_lu(ab, n, m.kl, m.ku, ipiv)
-
-    def solve():
-        rhs[:] = 1.0
-        band_solve(ws.ab, n, m.kl, m.ku, ws.ipiv, rhs)
-
-    return {
-        "residual": per_call_us(lambda: _residuals(m, st.q, st.v, st.a, sim.time, ws.ship, r, CALLS)) / CALLS * 1e-6,
-        "factorisation": per_call_us(factorise) * 1e-6,
-        "solve": per_call_us(solve) * 1e-6,
-        "outputs": per_call_us(lambda: output_values(m, st.q, st.v, st.a, st.phi, sim.time, ws.ship,
-                                                      sim.output_scene, r)) * 1e-6,
+    loops = {
+        "residual": lambda: _residuals(m, st.q, st.v, st.a, sim.time, ws.ship, r, CALLS),
+        "factorisation": lambda: _factorisations(m, st.q, st.v, sim.time, ws.ship, ab, ipiv, CALLS),
+        "solve": lambda: _solves(m, ws.ab, ws.ipiv, rhs, CALLS),
+        "outputs": lambda: _outputs(m, st.q, st.v, st.a, st.phi, sim.time, ws.ship, sim.output_scene, r, CALLS),
     }
+    return {name: per_call_us(loop) / CALLS * 1e-6 for name, loop in loops.items()}
 
 
 def standalone() -> dict[str, float]:

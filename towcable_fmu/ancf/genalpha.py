@@ -33,6 +33,12 @@ where they differ (semi-smooth Newton). A step in which a tension-only element w
 taut or slack is taken again, shortened to end just past that instant
 (:func:`~towcable_fmu.ancf.slack.crossing_fraction`, ``locate_events``).
 
+Predictor: ``a_{n+1} = a_n + r (a_n - a_{n-1})`` per coordinate, with the ratio
+``r = (a_n - a_{n-1}) / (a_{n-1} - a_{n-2})`` of the last two changes clipped to [-1, 0]:
+a mode the step does not resolve alternates, damped by about ``-rho_inf`` a step, and is
+followed; a smooth trend (r > 0) is not extrapolated. Used after two accepted steps of
+the same size (the history ``a_hist``, ``h_hist`` is part of the state).
+
 Convergence test (Hairer & Wanner): the estimated remaining error
 ``theta/(1-theta) * |dq|`` is below ``newton_tol``, with the contraction rate theta of
 the previous step used on the first iteration; ``|dq|`` is the largest correction
@@ -157,6 +163,8 @@ class IntegratorState(NamedTuple):
     jac_ship: np.ndarray  #: (3, 6) ship state at which the Jacobian was evaluated
     stats: np.ndarray    #: (6,) int64 counters (see STAT_NAMES)
     taut: np.ndarray     #: (ne,) int64 taut Gauss points of the tension-only elements (bit masks) at the clock's time
+    a_hist: np.ndarray   #: (2, nf) accelerations at the starts of the last two accepted steps (the predictor's history)
+    h_hist: np.ndarray   #: (2,) the sizes of those steps [s] (0: none yet, e.g. after a start or a remeshing)
 
 
 class Workspace(NamedTuple):
@@ -186,7 +194,7 @@ def new_state(model: CableModel) -> IntegratorState:
     return IntegratorState(np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(nf), np.zeros(4), np.zeros(4),
                            np.zeros(JAC_FIELDS), np.zeros(nf), np.zeros(nf), np.zeros((3, 6)),
                            np.zeros(len(STAT_NAMES), dtype=np.int64),
-                           np.zeros(model.el_len.shape[0], dtype=np.int64))
+                           np.zeros(model.el_len.shape[0], dtype=np.int64), np.zeros((2, nf)), np.zeros(2))
 
 
 def new_workspace(model: CableModel) -> Workspace:
@@ -283,6 +291,7 @@ def initial_acceleration(model: CableModel, opt: SolverOptions, st: IntegratorSt
     st.abar[:] = st.a
     st.phi[3] = st.phi[2]
     st.clock[CLOCK_TIME] = t
+    st.h_hist[:] = 0.0
     return True
 
 
@@ -314,6 +323,13 @@ def _winch_step(opt, st, h, sp, sp_rate, am, af, gamma, beta):
 
 
 @njit(cache=True, inline="always")
+def _predicting(st, h):
+    """True when the last two accepted steps had the size h [s] (to 1 %): the predictor
+    extrapolates the accelerations from them (else a_{n+1} = a_n)."""
+    return abs(st.h_hist[0] - h) <= 0.01 * h and abs(st.h_hist[1] - h) <= 0.01 * h
+
+
+@njit(cache=True, inline="always")
 def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
     """One step attempt of size h: STEP_ACCEPTED, STEP_NOT_CONVERGED or STEP_ERROR_TOO_LARGE."""
     t1 = st.clock[CLOCK_TIME] + h
@@ -323,9 +339,19 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
     bp = h * h * beta * scale
     gp = h * gamma * scale
     n = model.free_dofs.shape[0]
+    predict = _predicting(st, h)
     for i in range(n):
         k = model.free_dofs[i]
-        bar_new = (st.a[k] - am * st.abar[k]) / (1.0 - am)
+        if not predict:  # a_{n+1} = a_n
+            bar_new = (st.a[k] - am * st.abar[k]) / (1.0 - am)
+        else:  # an alternation the step does not resolve, continued: the last change of a_n
+            # again, scaled by the ratio r of the last two changes where r < 0 (a trend, r > 0, is not extrapolated)
+            d1 = st.a[k] - st.a_hist[0, k]
+            d0 = st.a_hist[0, k] - st.a_hist[1, k]
+            ratio = min(max(d1 / d0, -1.0), 0.0) if d0 != 0.0 else 0.0
+            guess = st.a[k] + ratio * d1
+            bar_new = ((1.0 - af) * guess + af * st.a[k] - am * st.abar[k]) / (1.0 - am)
+            st.a[k] = guess
         st.q[k] += h * st.v[k] + h * h * ((0.5 - beta) * st.abar[k] + beta * bar_new)
         st.v[k] += h * ((1.0 - gamma) * st.abar[k] + gamma * bar_new)
         st.abar[k] = bar_new
@@ -507,6 +533,10 @@ def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Work
             break
         if status == STEP_ACCEPTED:
             ws.step_start[0] = t
+            copy_into(st.a_hist[1], st.a_hist[0])
+            copy_into(st.a_hist[0], ws.a0)
+            st.h_hist[1] = st.h_hist[0]
+            st.h_hist[0] = h_try
             copy_into(st.taut, model.el_taut[TAUT_RESIDUAL])
             st.stats[STAT_STEPS] += 1
             st.clock[CLOCK_STEPS_SINCE_CUT] += 1.0

@@ -119,6 +119,8 @@ def save_state(stepper: Stepper) -> None:
     copy_into(dst.jac_ship, src.jac_ship)
     copy_into(dst.stats, src.stats)
     copy_into(dst.taut, src.taut)
+    copy_into(dst.a_hist, src.a_hist)
+    copy_into(dst.h_hist, src.h_hist)
 
 
 @njit(cache=True)
