@@ -130,8 +130,9 @@ class HeaveCompensation(ContractSlave):
 
     def _compiled_functions(self) -> tuple[int, int, np.ndarray] | None:
         # the motion algorithms run in the loader layer (controllers/fmu_step.py), the
-        # constant-tension controller (a state) in Python
-        if not isinstance(self.algorithm, SetpointAlgorithm):
+        # constant-tension controller (a state) in Python; after non-finite inputs the
+        # Python step refuses the step
+        if not isinstance(self.algorithm, SetpointAlgorithm) or self.bad_inputs:
             return None
         from .fmu_step import OUTPUTS, STEP, law_model
 

@@ -1,14 +1,16 @@
 """HeaveCompensation's set-point law compiled for the FMU's loader layer
 (``fmu_build/csrc/shared_values.h``): the loader calls :data:`OUTPUTS` when a host gets
-an output after setting inputs (direct feedthrough) and :data:`STEP` for ``fmi2DoStep``,
-without entering Python.
+an output after setting inputs (direct feedthrough) and before a step, and :data:`STEP`
+for ``fmi2DoStep``, without entering Python.
 
-Both evaluate :func:`controllers.setpoint.setpoint_law` on the inputs in the shared
-values, as the slave's Python does for the motion algorithms (``constant_tension`` has a
-state and stays in Python), and write ``winch.phi_sp`` and ``winch.phi_sp_rate``. They
-decline (return 1, nothing written) where the slave has something to say: a non-finite
-ship input (the step is then refused by the slave) or an unusable sheave angle before
-the slave warned of it. Their data (one float64 array, :func:`law_model`)::
+:data:`OUTPUTS` evaluates :func:`controllers.setpoint.setpoint_law` on the inputs in the
+shared values, as the slave's Python does for the motion algorithms (``constant_tension``
+has a state and stays in Python), and writes ``winch.phi_sp`` and ``winch.phi_sp_rate``.
+It declines (returns 1, nothing written) where the slave has something to say: a
+non-finite ship input (the step is then refused by the slave) or an unusable sheave
+angle before the slave warned of it. The algorithms have no state: :data:`STEP` has
+nothing to do once the outputs are those of the inputs. The data (one float64 array,
+:func:`law_model`)::
 
     [count, warned, ship_vr (12), sheave_angle_vr, phi_sp_vr, phi_sp_rate_vr, law (11)]
 
@@ -79,8 +81,7 @@ def _outputs(values_ptr, model_ptr):
 
 @cfunc(STEP_SIGNATURE, cache=True)
 def _step(values_ptr, model_ptr, t, h):
-    model = carray(model_ptr, MODEL_SIZE)
-    return setpoint_outputs(carray(values_ptr, int(model[0])), model)
+    return 0
 
 
 #: The addresses of the compiled functions (C).

@@ -692,6 +692,7 @@ static int compiled_step(Instance *inst, fmi2Real t, fmi2Real h)
     if (!sh || !sh->served || !sh->step || !isfinite(t) || !isfinite(h) || !(h > 0.0)
         || fabs(t - sh->time) > 1e-9 * fmax(1.0, fabs(t)))
         return 0;
+    if (!update_outputs(sh)) return 0; /* a feedthrough slave steps from the outputs of its inputs */
     double start = seconds_now();
     if (sh->step(sh->values, sh->model, t, h) != 0) return 0;
     add_model_time(sh, start);

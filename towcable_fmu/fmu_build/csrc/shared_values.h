@@ -19,7 +19,8 @@
 
 /* A compiled step from t by h [s]: reads its inputs from and writes its outputs into
    values (indexed by value reference); 0 if done, else it changed nothing and the step
-   goes to Python (which reports what is wrong). */
+   goes to Python (which reports what is wrong). With direct feedthrough the loader has
+   made the outputs of the inputs first (CompiledOutputs). */
 typedef int32_t (*CompiledStep)(double *values, const double *model, double t, double h);
 /* The outputs of the current inputs (a slave with direct feedthrough); 0 if done, else
    nothing changed and the call goes to Python. */
