@@ -39,8 +39,8 @@ class _Header(ctypes.Structure):
 def loader_values_address(resources: str | None, model_identifier: str) -> int:
     """The address of the shared values the FMU's loader made for the instance being
     created on this thread (0: none: no loader, or not inside ``fmi2Instantiate``)."""
-    if not resources or os.environ.get(PASS_THROUGH_ENV) == "1":
-        return 0
+    if not resources or os.environ.get(PASS_THROUGH_ENV) == "1" or not hasattr(os, "RTLD_NOLOAD"):
+        return 0  # (the layer is Linux's)
     library = Path(resources).parent / "binaries" / "linux64" / f"{model_identifier}.so"
     try:
         loader = ctypes.CDLL(str(library), mode=os.RTLD_NOLOAD | os.RTLD_LAZY)
