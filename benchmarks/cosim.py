@@ -10,12 +10,21 @@ loop's wall time). Overhead = the share of the loop's wall time spent outside th
 models' own computations.
 The standalone ``Simulation`` on the same scene and sea is given for comparison.
 
-Run: ``python benchmarks/cosim.py``; writes ``results/cosim.md``.
+The loader layer's shared values (the light FMUs stepped by their compiled functions,
+gets and sets without Python) against every call through Python
+(``TOWCABLE_FMU_PASS_THROUGH=1``, as before them): the two runs interleaved in this
+process, medians of three, per communication step the time outside TowCable's model
+(the two light FMUs, every FMI call, the master) and the speed.
+
+Run: ``python benchmarks/cosim.py``; writes ``results/cosim.md``
+(``--shared-values``: only the comparison, printed).
 """
 
 from __future__ import annotations
 
+import os
 import statistics
+import sys
 import time
 
 from common import RESULTS, machine_header, markdown_table
@@ -33,6 +42,41 @@ def cosim(step: float) -> dict:
     runs = [run_cosim(CosimConfig(duration=DURATION, step=step, compensation="simplified_sheave",
                                   fmu_dir="fmus"), echo=False).timing for _ in range(REPEATS)]
     return {key: statistics.median(r[key] for r in runs) for key in runs[0]}
+
+
+def shared_values(step: float, duration: float = DURATION) -> dict[str, list[float]]:
+    """Medians of REPEATS interleaved runs with the shared values (``shared``) and with
+    every call through Python (``python``): [x real time, outside TowCable's model
+    [us/step], TowCable's model [us/step]]."""
+    from towcable_fmu.cosim import CosimConfig, run_cosim
+
+    runs: dict[str, list] = {"python": [], "shared": []}
+    for _ in range(REPEATS):
+        for mode in runs:
+            os.environ["TOWCABLE_FMU_PASS_THROUGH"] = "1" if mode == "python" else "0"
+            t = run_cosim(CosimConfig(duration=duration, step=step, compensation="simplified_sheave",
+                                      fmu_dir="fmus"), echo=False).timing
+            n = t["steps"]
+            runs[mode].append((t["realtime_factor"], 1e6 * (t["wall"] - t["model.TowCable"]) / n,
+                               1e6 * t["model.TowCable"] / n))
+    os.environ.pop("TOWCABLE_FMU_PASS_THROUGH")
+    return {mode: [statistics.median(column) for column in zip(*rows)] for mode, rows in runs.items()}
+
+
+def shared_values_table() -> str:
+    """The comparison of :func:`shared_values` at both steps (Markdown)."""
+    rows = []
+    for step in STEPS:
+        m = shared_values(step)
+        rows.append([f"{step:g}", f"{m['python'][0]:.1f}", f"{m['shared'][0]:.1f}", f"{m['python'][1]:.1f}",
+                     f"{m['shared'][1]:.1f}", f"{m['python'][2]:.1f}", f"{m['shared'][2]:.1f}"])
+    return ("\nShared values (the loader serves gets and sets and steps the light FMUs compiled) against every "
+            "call through Python (`TOWCABLE_FMU_PASS_THROUGH=1`), interleaved in one process, medians of "
+            f"{REPEATS}; 'outside' is the loop's wall time outside TowCable's model (the light FMUs, every FMI "
+            "call, the master):\n\n"
+            + markdown_table(["communication step [s]", "x real time, Python", "x real time, shared",
+                              "outside [us/step], Python", "outside [us/step], shared",
+                              "TowCable model [us/step], Python", "TowCable model [us/step], shared"], rows))
 
 
 def standalone() -> float:
@@ -76,10 +120,14 @@ def main() -> None:
                             "slaves' glue [us/step]", "FMI calls + master [us/step]", "overhead [%]"],
                            rows),
             f"\nThe `Simulation` alone on the same scene, sea and set-point (recording every 0.1 s): "
-            f"{alone:.1f} x real time.\n"]
+            f"{alone:.1f} x real time.\n", shared_values_table(), "\n"]
     (RESULTS / "cosim.md").write_text("".join(text), encoding="utf-8")
     print("".join(text))
 
 
 if __name__ == "__main__":
-    main()
+    if "--shared-values" in sys.argv:
+        cosim(0.01)  # build the FMUs if needed and load the compiled kernels
+        print(machine_header() + shared_values_table())
+    else:
+        main()

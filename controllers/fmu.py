@@ -26,6 +26,7 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
 from pythonfmu.enums import Fmi2Status
 
 from towcable_fmu.errors import SceneError
@@ -126,6 +127,20 @@ class HeaveCompensation(ContractSlave):
             self.timed(self.algorithm.advance, self.values["tension.winch"], dt)
             self._compute()
         return True
+
+    def _compiled_functions(self) -> tuple[int, int, np.ndarray] | None:
+        # the motion algorithms run in the loader layer (controllers/fmu_step.py), the
+        # constant-tension controller (a state) in Python; after non-finite inputs the
+        # Python step refuses the step
+        if not isinstance(self.algorithm, SetpointAlgorithm) or self.bad_inputs:
+            return None
+        from .fmu_step import OUTPUTS, STEP, law_model
+
+        vrs = {var.name: vr for vr, var in self.vars.items()}
+        model = law_model(self._buffer_size(), self._warned_fallback, [vrs[name] for name in self._ship.names],
+                          vrs["sheave_angle"], [vrs["winch.phi_sp"], vrs["winch.phi_sp_rate"]],
+                          self.algorithm.law)
+        return STEP, OUTPUTS, model
 
     def _model_state(self) -> Any:
         return {"bad_inputs": list(self.bad_inputs),

@@ -15,11 +15,14 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from towcable_fmu.builtin_scenes import builtin_scene_names, builtin_scene_text
 from towcable_fmu.errors import SceneError
 from towcable_fmu.fmi.slave import ContractSlave, ship_signal_names
 
 from . import EXAMPLE_CSV, TYPES, motion_from_config
+from .irregular import IrregularSea
 
 
 def motion_table(p: dict[str, Any]) -> tuple[dict, Path | None]:
@@ -88,6 +91,7 @@ class ShipMotion(ContractSlave):
         self.motion = None
         self._built_from: tuple | None = None
         self._names = ship_signal_names()
+        self._step_model: tuple | None = None  # (motion, compiled step, its data)
 
     def _parameters(self) -> dict[str, Any]:
         return {v.name: self.values[v.name] for v in self.spec.parameters}
@@ -111,7 +115,6 @@ class ShipMotion(ContractSlave):
         self._build()
         self.log(f"{self.instance_name}: {self.motion.description}")
         self._evaluate(self.start_time)
-        self._time = self.start_time
 
     def _inputs_changed(self) -> None:
         # initialisation mode: the outputs follow the parameters set so far (the ship state at
@@ -131,13 +134,24 @@ class ShipMotion(ContractSlave):
         if not all(map(math.isfinite, state)):
             raise ValueError(f"the ship state at t = {t + dt:.6g} s is not finite")
         self.values.update(zip(self._names, state))
-        self._time = t + dt
         return True
 
+    def _compiled_functions(self) -> tuple[int, int, np.ndarray] | None:
+        # an irregular sea steps in the loader layer (ship_motion/fmu_step.py); the model
+        # array is made once per motion
+        if not isinstance(self.motion, IrregularSea):
+            return None
+        if self._step_model is None or self._step_model[0] is not self.motion:
+            from .fmu_step import STEP, step_model
+
+            vrs = {var.name: vr for vr, var in self.vars.items()}
+            model = step_model(self._buffer_size(), [vrs[name] for name in self._names], *self.motion.harmonic_table)
+            self._step_model = (self.motion, STEP, model)
+        return self._step_model[1], 0, self._step_model[2]
+
     def _model_state(self) -> Any:
-        return {"time": self._time}
+        return {"time": self._communication_time}
 
     def _restore_model_state(self, data: Any) -> None:
         if self.motion is None or self._built_from != tuple(sorted(self._parameters().items())):
             self._build()
-        self._time = float(data["time"])

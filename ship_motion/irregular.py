@@ -222,6 +222,12 @@ class IrregularSea(MotionSource):
             parts += [self.response[:, j].real, self.response[:, j].imag]
         self._table = np.ascontiguousarray(np.vstack(parts), dtype=np.float64)
 
+    @property
+    def harmonic_table(self) -> tuple[np.ndarray, np.ndarray, float]:
+        """What :func:`harmonic_state` takes besides the time: the table, the columns with
+        a response and the ramp time [s]."""
+        return self._table, self._dofs, self.ramp
+
     def _phasors(self, times: np.ndarray) -> np.ndarray:
         return np.exp(1j * (np.outer(times, self.encounter_frequency) + self.waves.phase))
 

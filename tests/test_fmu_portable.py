@@ -259,11 +259,14 @@ def foreign(tmp_path_factory):
     src = tmp / "src"
     for package in bundle.PACKAGES:
         shutil.copytree(ROOT / package, src / package, ignore=shutil.ignore_patterns("__pycache__"))
-    fmu_py = src / "ship_motion" / "fmu.py"
-    text = fmu_py.read_text(encoding="utf-8")
-    old = "        state = self.timed(self.motion.evaluate, t).ravel()\n"
-    assert old in text
-    fmu_py.write_text(text.replace(old, old + "        state[2] += 1.0  # the foreign sources' difference\n"),
+    # the difference in the sum of harmonic components, which the slave's Python and the
+    # step the loader layer calls (ship_motion/fmu_step.py) both evaluate
+    source = src / "ship_motion" / "irregular.py"
+    text = source.read_text(encoding="utf-8")
+    old = "            out[2, j] = f2 * g0 + 2.0 * f1 * g1 + f0 * g2\n    return out\n"
+    assert text.count(old) == 1
+    source.write_text(text.replace(old, old.replace("    return out\n", "    out[0, 2] += 1.0  # the foreign sources' "
+                                                                         "difference\n    return out\n")),
                       encoding="utf-8")
     out = tmp / "out"
     subprocess.run([sys.executable, "-c", "import sys; from towcable_fmu.fmu_build.build import build_fmus; "

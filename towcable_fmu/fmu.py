@@ -39,7 +39,7 @@ from pythonfmu.enums import Fmi2Status
 
 from .errors import SceneError
 from .models import model_kind, simulation_for
-from .fmi.slave import ContractSlave, ShipStateReader
+from .fmi.slave import ContractSlave, ShipStateReader, ship_signal_names
 from .scene import load_scene, parse_overrides
 
 #: Numeric parameters that override a scene key, with the value that means "keep the scene's".
@@ -88,7 +88,7 @@ class TowCable(ContractSlave):
         self._build()
         out = self.timed(self.sim.initialize, self.start_time, ship, setpoint)
         self.missing = self.set_outputs(out)
-        self._row_copy = _RowCopy(self.sim.names, self._output_slots)
+        self._row_copy = _RowCopy(self.sim.names, self._output_slots, self._value_references())
         kind = model_kind(self.sim.scene)
         parts = {"ancf": "ANCF elements", "nodal_position": "nodal-position elements", "rigid_link": "rigid links"}
         self.log(f"{self.instance_name}: scene '{self.values['scene']}' ({self.sim.scene.title}); "
@@ -116,6 +116,23 @@ class TowCable(ContractSlave):
         self._row_copy(row, self.values)
         return True
 
+    def _step_values(self, t: float, dt: float, values: np.ndarray) -> bool:
+        # the step of _step on the shared values: the inputs read from them, the outputs
+        # written into them; a non-finite input or a failed step is left to _step, which
+        # refuses it with the reason (a failed step leaves the Simulation as it was)
+        copy = self._row_copy
+        inputs = values[copy.input_vrs]
+        if not np.isfinite(inputs).all():
+            return False
+        now = self.sim.time
+        try:
+            row = self.timed(self.sim.step_row, (t + dt) - now, inputs[:18].reshape(3, 6), (inputs[18], inputs[19]))
+        except Exception:  # noqa: BLE001 - _step makes the step again and reports it
+            return False
+        copy.into_buffer(row, values)
+        values[copy.timer_vr] = self._model_time
+        return True
+
     def _model_state(self) -> Any:
         return {"simulation": self.sim.get_state(), "missing": list(self.missing)}
 
@@ -124,7 +141,10 @@ class TowCable(ContractSlave):
             self._build()
         self.sim.set_state(data["simulation"])
         self.missing = list(data["missing"])
-        self._row_copy = _RowCopy(self.sim.names, self._output_slots)
+        self._row_copy = _RowCopy(self.sim.names, self._output_slots, self._value_references())
+
+    def _value_references(self) -> dict[str, int]:
+        return {var.name: vr for vr, var in self.vars.items()}
 
 
 class _RowCopy:
@@ -140,15 +160,26 @@ class _RowCopy:
         The Simulation's output names (the row's order).
     slots
         The FMU's outputs: (name, cast, is Real).
+    vrs
+        Value reference of every variable (name -> vr), for the copy into the values the
+        loader layer shares (:meth:`into_buffer`).
     """
 
-    def __init__(self, names: tuple[str, ...], slots: list[tuple[str, Any, bool]]) -> None:
+    def __init__(self, names: tuple[str, ...], slots: list[tuple[str, Any, bool]], vrs: dict[str, int]) -> None:
         position = {name: k for k, name in enumerate(names)}
         reals = [(name, position[name]) for name, _, real in slots if real and name in position]
         self._real_names = tuple(name for name, _ in reals)
         self._pick = values_getter_at(tuple(k for _, k in reals))
         self._others = tuple((name, cast, position[name]) for name, cast, real in slots
                              if not real and name in position)
+        self._real_vrs = np.array([vrs[name] for name, _ in reals], dtype=np.intp)
+        self._real_positions = np.array([k for _, k in reals], dtype=np.intp)
+        self._other_vrs = tuple((vrs[name], cast, k) for name, cast, k in self._others)
+        #: the shared values of the inputs: the 18 ship signals (ship-state order), the set-point and its rate
+        self.input_vrs = np.array([vrs[name] for name in (*ship_signal_names(), "winch.phi_sp",
+                                                          "winch.phi_sp_rate")], dtype=np.intp)
+        #: the shared value of the model wall time [s]
+        self.timer_vr = vrs["model_wall_time"]
 
     def __call__(self, row: np.ndarray, values: dict[str, Any]) -> None:
         """Copy ``row`` into ``values`` (name -> value)."""
@@ -156,6 +187,13 @@ class _RowCopy:
         values.update(zip(self._real_names, self._pick(items)))
         for name, cast, k in self._others:
             values[name] = cast(items[k])
+
+    def into_buffer(self, row: np.ndarray, buffer: np.ndarray) -> None:
+        """Copy ``row`` into the shared values ``buffer`` (by value reference) as
+        :meth:`__call__` copies it into the values."""
+        buffer[self._real_vrs] = row[self._real_positions]
+        for vr, cast, k in self._other_vrs:
+            buffer[vr] = float(cast(row[k]))
 
 
 def values_getter_at(positions: tuple[int, ...]):

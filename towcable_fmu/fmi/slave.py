@@ -27,9 +27,16 @@ that the slave and its model are freed as soon as pythonfmu drops them (a refere
 cycle kept them until the garbage collector's next full pass: on ``full_scale`` the heap
 rose by 70 kB per instance life, now 9 kB; docs/design.md).
 
+With the loader layer, an initialised slave hands its values over to the layer at the
+end of every entry point (:mod:`towcable_fmu.fmi.shared_values`): the layer then answers
+gets and sets of inputs without Python, and steps without Python where the subclass
+gives a compiled step (:meth:`ContractSlave._compiled_functions`). Every entry point
+first takes the values back (the inputs set and, after compiled calls, the outputs and
+the communication time); a compiled call that declines lands in the Python method.
+
 Subclasses set ``fmu_name`` (a key of ``[fmus]`` in the contract) and implement
 ``_initialize()``, ``_step(t, dt)`` and optionally ``_model_state()`` /
-``_restore_model_state()`` and ``_inputs_changed()``.
+``_restore_model_state()``, ``_inputs_changed()`` and ``_compiled_functions()``.
 """
 
 from __future__ import annotations
@@ -51,6 +58,7 @@ from pythonfmu.enums import Fmi2Status
 
 from .. import contract, kernel_cache
 from ..errors import TowcableError
+from .shared_values import SharedValues, loader_values_address
 
 _TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
 _CAST: dict[str, Callable[[Any], Any]] = {"Real": float, "Integer": int, "Boolean": bool, "String": str}
@@ -87,6 +95,8 @@ class ShipStateReader:
         self._prefix = given == all_names[:len(given)]
         self._padding = (0.0,) * (18 - len(given))
         self._index = np.array([all_names.index(name) for name in given], dtype=np.intp)
+        #: the signals read, in ship-state order
+        self.names = given
 
     def __call__(self, values: dict[str, Any]) -> np.ndarray:
         """The ship state: rows position/attitude [m, rad], their rates [m/s, rad/s] and
@@ -105,6 +115,29 @@ def values_getter(names: tuple[str, ...]) -> Callable[[Any], tuple]:
     if len(names) >= 2:
         return operator.itemgetter(*names)
     return lambda mapping: tuple(mapping[name] for name in names)
+
+
+def _entry(hand_over: str) -> Callable:
+    """Decorate an FMI entry point of :class:`ContractSlave`: the values are taken back from
+    the loader layer first and handed over again at the end (``hand_over``: ``"all"``
+    values, or only the ``"outputs"`` for an entry point that changes no other value)."""
+
+    def decorate(method: Callable) -> Callable:
+        @functools.wraps(method)
+        def entry(self, *args, **kwargs):
+            if self._shared is None or self._in_entry:  # no layer, or called by another entry point
+                return method(self, *args, **kwargs)
+            self._in_entry = True
+            try:
+                self._take_back()
+                return method(self, *args, **kwargs)
+            finally:
+                self._hand_over(hand_over)
+                self._in_entry = False
+
+        return entry
+
+    return decorate
 
 
 def _in_range(var: contract.Variable, value: Any) -> bool:
@@ -171,6 +204,79 @@ class ContractSlave(Fmi2Slave):
         self._real_inputs = {vr: var.name for vr, var in self.vars.items()
                              if isinstance(var, Real) and var.causality == Fmi2Causality.input}
         self._last_block: dict[int, tuple[list[int], tuple[tuple[str, ...], Callable[[Any], tuple]]]] = {}
+        self._in_entry = False
+        self._shared = self._share(kwargs.get("resources"))
+        self._compiled: tuple | None = None  # the compiled functions handed over last
+
+    # ------------------------------------------------------------ values shared with the loader
+    def _share(self, resources: str | None) -> SharedValues | None:
+        """The loader layer's shared values for this instance (None: no layer)."""
+        try:
+            address = loader_values_address(resources, self.spec.name)
+            if not address:
+                return None
+            groups: dict[str, list] = {"input": [], "output": [], "other": []}
+            for vr, var in self.vars.items():
+                if isinstance(var, (Real, Integer, Boolean)):
+                    kind = var.causality.name if var.causality.name in ("input", "output") else "other"
+                    groups[kind].append((var.name, vr, _CAST[type(var).__name__]))
+            return SharedValues(address, groups["input"], groups["output"], groups["other"])
+        except Exception as exc:  # noqa: BLE001 - the slave works without: it serves every call itself
+            self.log(f"{self.instance_name}: the loader's shared values are not used: {exc}", Fmi2Status.warning)
+            return None
+
+    def _take_back(self) -> None:
+        """Take the values back from the loader layer if it serves them: the inputs set
+        there (the model is told, :meth:`_inputs_changed`), the outputs and the time of
+        its compiled calls."""
+        shared = self._shared
+        if not shared.served:
+            return
+        outputs = self._compiled is not None or shared.outputs_changed
+        inputs_set, now = shared.take_back(self.values, outputs)
+        self._communication_time = now
+        if outputs and "model_wall_time" in self.values:
+            self._model_time = self.values["model_wall_time"]
+        if inputs_set:
+            self._guard("inputs", self._inputs_changed)
+
+    def _hand_over(self, which: str) -> None:
+        """Let the loader layer serve the values (an initialised slave that has not
+        failed) with the compiled functions of :meth:`_compiled_functions`."""
+        if not self.initialized or self.failed is not None or self.in_initialization:
+            return
+        try:
+            compiled = self._compiled_functions()
+            if compiled is not None:
+                step, outputs, model = compiled
+                timer = next((vr for vr, var in self.vars.items() if var.name == "model_wall_time"), -1)
+                compiled = (step, outputs, model, timer)
+            if (compiled is None) != (self._compiled is None):
+                which = "all"  # the loader has not the outputs of the other kind of step
+            self._compiled = compiled
+            self._shared.hand_over(self.values, self._communication_time, which, compiled)
+        except Exception as exc:  # noqa: BLE001 - nothing may reach pythonfmu's C layer
+            self._shared.withdraw()
+            self._compiled = None
+            self._report("shared values", exc, Fmi2Status.warning)
+
+    def _step_values(self, t: float, dt: float, values: np.ndarray) -> bool:
+        """Advance from ``t`` by ``dt`` [s] reading the inputs from and writing the outputs
+        (``model_wall_time`` too) into the shared ``values`` (by value reference); False,
+        with nothing changed, if the step is for :meth:`_step` to make or refuse (it is
+        then called). Default: always False."""
+        return False
+
+    def _compiled_functions(self) -> tuple[int, int, np.ndarray] | None:
+        """The model's step compiled for the loader layer, if it has one in its present
+        configuration: (the address of a ``CompiledStep``, that of a ``CompiledOutputs``
+        or 0, the float64 array they take as data; ``fmu_build/csrc/shared_values.h``).
+        Default: none (steps run in Python)."""
+        return None
+
+    def _buffer_size(self) -> int:
+        """The number of shared values (value references 0 .. size - 1)."""
+        return self._shared.values.size
 
     # ------------------------------------------------------------ registration
     def _scalar(self, var: contract.Variable):
@@ -247,13 +353,16 @@ class ContractSlave(Fmi2Slave):
                 self.values["model_wall_time"] = self._model_time
 
     # ------------------------------------------------------------ FMI entry points
+    @_entry("all")
     def setup_experiment(self, start_time: float, stop_time=None, tolerance=None) -> None:
         self.start_time = float(start_time)
 
+    @_entry("all")
     def enter_initialization_mode(self) -> None:
         self.in_initialization = True
         self._guard("inputs", self._inputs_changed, status=Fmi2Status.warning)
 
+    @_entry("all")
     def exit_initialization_mode(self) -> None:
         def run():
             if not math.isfinite(self.start_time):
@@ -276,6 +385,28 @@ class ContractSlave(Fmi2Slave):
             self.failed = "initialisation failed (see the previous message); the FMU cannot step"
 
     def do_step(self, current_time: float, step_size: float) -> bool:
+        if self._shared is not None and not self._in_entry and self._step_in_buffer(current_time, step_size):
+            return True
+        return self._do_step(current_time, step_size)
+
+    def _step_in_buffer(self, t: float, dt: float) -> bool:
+        """A step on the values the loader layer serves, left there (:meth:`_step_values`);
+        False if it is not made (not served, compiled functions handed over, a step the
+        Python step must refuse or report), with nothing changed."""
+        shared = self._shared
+        if not shared.served or self._compiled is not None:
+            return False
+        header = shared.header
+        if not (math.isfinite(t) and math.isfinite(dt) and dt > 0.0) or abs(t - header.time) > 1e-9 * max(1.0, abs(t)):
+            return False
+        if not self._step_values(t, dt, shared.values):
+            return False
+        header.time = self._communication_time = t + dt
+        shared.outputs_changed = True
+        return True
+
+    @_entry("outputs")
+    def _do_step(self, current_time: float, step_size: float) -> bool:
         try:
             if self.failed is not None:
                 self.log_error(self.failed)
@@ -303,6 +434,7 @@ class ContractSlave(Fmi2Slave):
             self._report(f"step from t = {current_time:.6g} s by {step_size:.6g} s failed", exc, Fmi2Status.discard)
             return False
 
+    @_entry("all")
     def terminate(self) -> None:
         pass
 
@@ -332,15 +464,18 @@ class ContractSlave(Fmi2Slave):
             return None
         return list(block[1](self.values))
 
+    @_entry("outputs")
     def get_real(self, vrs):
         fast = self._read("Real", vrs)
         if fast is not None:
             return fast
         return self._guard("getReal", lambda: super(ContractSlave, self).get_real(vrs), default=[0.0] * len(vrs))
 
+    @_entry("outputs")
     def get_integer(self, vrs):
         return self._guard("getInteger", lambda: super(ContractSlave, self).get_integer(vrs), default=[0] * len(vrs))
 
+    @_entry("outputs")
     def get_boolean(self, vrs):
         fast = self._read("Boolean", vrs)
         if fast is not None:
@@ -348,9 +483,11 @@ class ContractSlave(Fmi2Slave):
         return self._guard("getBoolean", lambda: super(ContractSlave, self).get_boolean(vrs),
                            default=[False] * len(vrs))
 
+    @_entry("outputs")
     def get_string(self, vrs):
         return self._guard("getString", lambda: super(ContractSlave, self).get_string(vrs), default=[""] * len(vrs))
 
+    @_entry("all")
     def set_real(self, vrs, values):
         block = self._block(self._real_inputs, vrs)
         if block is None:  # parameters, outputs or unknown references: pythonfmu's checks and messages
@@ -359,19 +496,23 @@ class ContractSlave(Fmi2Slave):
             self.values.update(zip(block[0], map(float, values)))
         self._guard("inputs", self._inputs_changed)
 
+    @_entry("all")
     def set_integer(self, vrs, values):
         self._guard("setInteger", lambda: super(ContractSlave, self).set_integer(vrs, values))
         self._guard("inputs", self._inputs_changed)
 
+    @_entry("all")
     def set_boolean(self, vrs, values):
         self._guard("setBoolean", lambda: super(ContractSlave, self).set_boolean(vrs, values))
         self._guard("inputs", self._inputs_changed)
 
+    @_entry("all")
     def set_string(self, vrs, values):
         self._guard("setString", lambda: super(ContractSlave, self).set_string(vrs, values))
         self._guard("inputs", self._inputs_changed)
 
     # ------------------------------------------------------------ state
+    @_entry("outputs")
     def _get_fmu_state(self) -> dict[str, Any]:
         def run():
             return {"fmu": self.fmu_name, "values": dict(self.values), "initialized": self.initialized,
@@ -380,6 +521,7 @@ class ContractSlave(Fmi2Slave):
 
         return self._guard("getFMUstate", run, default={"fmu": self.fmu_name, "invalid": True})
 
+    @_entry("all")
     def _set_fmu_state(self, state: dict[str, Any]) -> None:
         """Restore a state of :meth:`_get_fmu_state`; a state that cannot be restored is an
         error and leaves the instance as it was (the state before the call is put back)."""

@@ -9,7 +9,9 @@ TowCable) as FMI 2.0 archives. It imports every slave; nothing a slave runs impo
   carries;
 * :mod:`towcable_fmu.fmu_build.native` — compiles the C loader layer of the Linux binary
   (``csrc/fmu_loader.c``): finds or starts a Python, enforces the FMI 2.0 state machine
-  (``csrc/state_machine.c``), relays errors, returns fmi2Error, checks FMU-state bytes;
+  (``csrc/state_machine.c``), relays errors, returns fmi2Error, checks FMU-state bytes,
+  serves gets, input sets and compiled steps from the values it shares with the slave
+  (``csrc/shared_values.h``);
 * :mod:`towcable_fmu.fmu_build.kernels` and :mod:`~towcable_fmu.fmu_build.warmup` — the
   precompiled kernels an FMU carries (every FMU run on every built-in scene);
 * :mod:`towcable_fmu.fmu_build.ssp` — the SSP file of the three-FMU system;

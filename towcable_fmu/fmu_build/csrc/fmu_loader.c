@@ -32,7 +32,15 @@
  *    message naming the call, the variable and the state, and change nothing;
  * 5. serialises FMU states in an envelope (state_bytes.c: FMU name, GUID, the state
  *    machine's state, CRC-32) and refuses bytes that fail it, so that pythonfmu only
- *    ever deserialises bytes it wrote.
+ *    ever deserialises bytes it wrote;
+ * 6. shares each instance's values with its slave (shared_values.h): once the slave has
+ *    handed them over (initialised, step mode), gets of Real, Integer and Boolean
+ *    variables and sets of Real inputs are served here without Python, and a slave with
+ *    a compiled step (ShipMotion, HeaveCompensation) steps without Python too; anything
+ *    else, and a compiled call that declines (a non-finite input, a time that does not
+ *    follow), goes to pythonfmu, whose slave takes the values back first. The buffer's
+ *    address reaches only the slave being created: towcable_shared_values() answers
+ *    during fmi2Instantiate and fmi2Reset on their thread, no FMI call carries it.
  *
  * pythonfmu 0.7 answers a Python exception with fmi2Fatal after releasing the slave's
  * Python objects while keeping pointers to them (PySlaveInstance::handle_py_exception);
@@ -61,9 +69,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 
 #include "fmi2Functions.h"
 #include "model_table.h"
+#include "shared_values.h"
 #include "state_bytes.h"
 #include "state_machine.h"
 
@@ -405,6 +415,7 @@ static int load_real(char *err, size_t n)
         for (Phase p = 0; p < PHASE_COUNT; p++)
             if (set_allowed(v, p, why, sizeof why)) v->settable |= 1u << p;
         v->parameter = strcmp(v->causality, "parameter") == 0;
+        v->input = strcmp(v->causality, "input") == 0;
     }
     if (!python_running() && !start_python(root, err, n)) return 0;
     snprintf(path, sizeof path, "%s/%s", dir, REAL_LIBRARY);
@@ -446,6 +457,9 @@ typedef struct Instance {
     char first_error[512];           /* the first error message logged during the current call */
     Phase phase;                     /* the state machine's state (state_machine.h) */
     char error_cause[512];           /* in the error state: the message of the call that failed */
+    SharedValues *shared;            /* the values shared with the slave (shared_values.h) */
+    int stepped;                     /* a step succeeded: last_step_end is its end */
+    fmi2Real last_step_end;          /* fmi2LastSuccessfulTime [s] */
 } Instance;
 
 /* An FMU state given to the host: pythonfmu's (a Python object) and the phase it was
@@ -602,6 +616,92 @@ static fmi2Status finish(Instance *inst, Call call, fmi2Status status)
     fmi2Status refused;                                                 \
     if (!admit(inst, call, name, &refused)) return refused
 
+/* ------------------------------------------------------------------------------------ */
+/* values shared with the slave                                                         */
+
+/* The instance whose slave pythonfmu is creating on this thread (fmi2Instantiate,
+   fmi2Reset): the only one towcable_shared_values() answers for. */
+static __thread Instance *attaching = NULL;
+
+SharedValues *towcable_shared_values(void) { return attaching ? attaching->shared : NULL; }
+
+static SharedValues *new_shared_values(void)
+{
+    SharedValues *sh = calloc(1, sizeof *sh + model.index_size * sizeof(double));
+    if (sh) {
+        sh->version = SHARED_VALUES_VERSION;
+        sh->timer_vr = -1;
+        sh->count = model.index_size;
+    }
+    return sh;
+}
+
+static double seconds_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Add the wall time since start [s] to the slave's model time output. */
+static void add_model_time(SharedValues *sh, double start)
+{
+    if (sh->timer_vr >= 0 && (uint64_t)sh->timer_vr < sh->count) sh->values[sh->timer_vr] += seconds_now() - start;
+}
+
+/* The slave's compiled outputs of the inputs set since (feedthrough); 0 if it declined. */
+static int update_outputs(SharedValues *sh)
+{
+    if (!sh->outputs_stale || !sh->outputs) return 1;
+    double start = seconds_now();
+    if (sh->outputs(sh->values, sh->model) != 0) return 0;
+    add_model_time(sh, start);
+    sh->outputs_stale = 0;
+    return 1;
+}
+
+/* A get served from the shared values (1), or 0: the slave answers it. */
+#define SERVE_GET(ctype)                                                          \
+    do {                                                                          \
+        SharedValues *sh = inst->shared;                                          \
+        if (sh && sh->served && update_outputs(sh)) {                             \
+            for (size_t i = 0; i < n; i++) v[i] = (ctype)sh->values[vr[i]];       \
+            return fmi2OK;                                                        \
+        }                                                                         \
+    } while (0)
+
+/* Sets of Real inputs kept in the shared values (1), or 0: the slave takes them. */
+static int serve_set_real(Instance *inst, const fmi2ValueReference vr[], size_t n, const fmi2Real v[])
+{
+    SharedValues *sh = inst->shared;
+    if (!sh || !sh->served) return 0;
+    for (size_t i = 0; i < n; i++) {
+        const Variable *var = model_table_find(&model, TYPE_REAL, vr[i]);
+        if (!var || !var->input) return 0;
+    }
+    for (size_t i = 0; i < n; i++) sh->values[vr[i]] = v[i];
+    sh->inputs_set = 1;
+    sh->outputs_stale = 1;
+    return 1;
+}
+
+/* A step made by the slave's compiled step (1), or 0: the slave makes (or refuses) it. */
+static int compiled_step(Instance *inst, fmi2Real t, fmi2Real h)
+{
+    SharedValues *sh = inst->shared;
+    if (!sh || !sh->served || !sh->step || !isfinite(t) || !isfinite(h) || !(h > 0.0)
+        || fabs(t - sh->time) > 1e-9 * fmax(1.0, fabs(t)))
+        return 0;
+    if (!update_outputs(sh)) return 0; /* a feedthrough slave steps from the outputs of its inputs */
+    double start = seconds_now();
+    if (sh->step(sh->values, sh->model, t, h) != 0) return 0;
+    add_model_time(sh, start);
+    sh->time = t + h;
+    sh->outputs_stale = 0;
+    sh->compiled_steps++;
+    return 1;
+}
+
 /* The variables of a get or set call exist with this type and, for a set, may be set in
    the instance's phase; a set Real parameter is finite. */
 static fmi2Status check_variables(Instance *inst, const char *call, VariableType type,
@@ -671,12 +771,16 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     inst->relay.componentEnvironment = inst;
     inst->logging_on = loggingOn;
     inst->phase = PHASE_INSTANTIATED;
+    inst->shared = new_shared_values();
+    attaching = inst;
     inst->real = real.Instantiate(instanceName, fmuType, fmuGUID, fmuResourceLocation, &inst->relay, visible,
                                   fmi2True);
+    attaching = NULL;
     if (!inst->real) {
         if (inst->worst < fmi2Error)
             send_text(functions, instanceName, fmi2Error, "logStatusError",
                       "pythonfmu could not instantiate the model (no message)");
+        free(inst->shared);
         free(inst->name);
         free(inst);
         return NULL;
@@ -717,8 +821,10 @@ void fmi2FreeInstance(fmi2Component c)
         next = st->next;
         free_state(inst, st);
     }
+    if (inst->shared) inst->shared->served = 0;
     if (inst->phase != PHASE_BROKEN) real.FreeInstance(inst->real);
     clear_categories(inst);
+    free(inst->shared);
     free(inst->name);
     free(inst);
 }
@@ -753,9 +859,30 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tolDefined, fmi2Real
 fmi2Status fmi2EnterInitializationMode(fmi2Component c) { FORWARD(ENTER_INITIALIZATION, EnterInitializationMode); }
 fmi2Status fmi2ExitInitializationMode(fmi2Component c) { FORWARD(EXIT_INITIALIZATION, ExitInitializationMode); }
 fmi2Status fmi2Terminate(fmi2Component c) { FORWARD(TERMINATE, Terminate); }
-fmi2Status fmi2Reset(fmi2Component c) { FORWARD(RESET, Reset); }
+
+/* pythonfmu makes a new slave: it takes the shared values afresh */
+fmi2Status fmi2Reset(fmi2Component c)
+{
+    ADMIT(CALL_RESET, "fmi2Reset");
+    if (inst->shared) inst->shared->served = 0;
+    inst->stepped = 0;
+    attaching = inst;
+    fmi2Status status = real.Reset(inst->real);
+    attaching = NULL;
+    return finish(inst, CALL_RESET, status);
+}
+
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean noSetPrior)
-{ FORWARD(DO_STEP, DoStep, t, h, noSetPrior); }
+{
+    ADMIT(CALL_DO_STEP, "fmi2DoStep");
+    fmi2Status status = compiled_step(inst, t, h) ? fmi2OK : real.DoStep(inst->real, t, h, noSetPrior);
+    status = finish(inst, CALL_DO_STEP, status);
+    if (status <= fmi2Warning) {
+        inst->stepped = 1;
+        inst->last_step_end = t + h;
+    }
+    return status;
+}
 
 /* A get or set call: admitted, its variables checked, forwarded. */
 #define ACCESS(call, name, type, setting)                                                       \
@@ -766,16 +893,26 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean noSet
         return finish(inst, call, real.name(inst->real, vr, n, v));                             \
     } while (0)
 
+/* ... with a first try to serve it from the shared values (an expression that returns). */
+#define ACCESS_SERVED(call, name, type, setting, serve)                                         \
+    do {                                                                                        \
+        ADMIT(call, "fmi2" #name);                                                              \
+        fmi2Status checked = check_variables(inst, "fmi2" #name, type, vr, n, v, setting);      \
+        if (checked != fmi2OK || n == 0) return checked;                                        \
+        serve;                                                                                  \
+        return finish(inst, call, real.name(inst->real, vr, n, v));                             \
+    } while (0)
+
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Real v[])
-{ ACCESS(CALL_GET, GetReal, TYPE_REAL, 0); }
+{ ACCESS_SERVED(CALL_GET, GetReal, TYPE_REAL, 0, SERVE_GET(fmi2Real)); }
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Integer v[])
-{ ACCESS(CALL_GET, GetInteger, TYPE_INTEGER, 0); }
+{ ACCESS_SERVED(CALL_GET, GetInteger, TYPE_INTEGER, 0, SERVE_GET(fmi2Integer)); }
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Boolean v[])
-{ ACCESS(CALL_GET, GetBoolean, TYPE_BOOLEAN, 0); }
+{ ACCESS_SERVED(CALL_GET, GetBoolean, TYPE_BOOLEAN, 0, SERVE_GET(fmi2Boolean)); }
 fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2String v[])
 { ACCESS(CALL_GET, GetString, TYPE_STRING, 0); }
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Real v[])
-{ ACCESS(CALL_SET, SetReal, TYPE_REAL, 1); }
+{ ACCESS_SERVED(CALL_SET, SetReal, TYPE_REAL, 1, if (serve_set_real(inst, vr, n, v)) return fmi2OK); }
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Integer v[])
 { ACCESS(CALL_SET, SetInteger, TYPE_INTEGER, 1); }
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Boolean v[])
@@ -979,7 +1116,16 @@ fmi2Status fmi2CancelStep(fmi2Component c) { return unsupported(c, "fmi2CancelSt
     } while (0)
 
 fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind k, fmi2Status *v) { STATUS(GetStatus); }
-fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind k, fmi2Real *v) { STATUS(GetRealStatus); }
+/* fmi2LastSuccessfulTime: the end of the last step that succeeded, also a compiled one */
+fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind k, fmi2Real *v)
+{
+    Instance *known = is_live(c) ? (Instance *)c : NULL;
+    if (known && v && k == fmi2LastSuccessfulTime && known->stepped && call_allowed(CALL_STATUS, known->phase)) {
+        *v = known->last_step_end;
+        return fmi2OK;
+    }
+    STATUS(GetRealStatus);
+}
 fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind k, fmi2Integer *v)
 { STATUS(GetIntegerStatus); }
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind k, fmi2Boolean *v)

@@ -21,6 +21,7 @@ typedef struct {
     char name[160];
     unsigned settable;    /* bit p: may be set in phase p (filled by the loader from state_machine.h) */
     int parameter;        /* causality parameter */
+    int input;            /* causality input */
 } Variable;
 
 typedef struct {
