@@ -34,7 +34,8 @@ def airy(a, omega, k, h, mu, eps, omega_e, x, y, z, t):
 
 def evaluate(table, depth, stretch, ramp, x, y, z, t, gradients=False):
     out = np.empty(W.OUT_SIZE)
-    used = W.wave_at(table, math.inf if depth is None else depth, stretch, ramp, x, y, z, t, gradients,
+    used = W.wave_at(table, math.inf if depth is None else depth, stretch, ramp, W.crest_bound(table), x, y, z, t,
+                     gradients,
                      np.empty(W.scratch_size(table)), out)
     return out, used
 

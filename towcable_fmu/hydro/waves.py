@@ -51,6 +51,7 @@ import numpy as np
 
 from ..kernel_cache import njit
 from ..scene.model import Scene
+from .water import WaterModel, flow
 
 #: Depth factor below which a component is left out of the sum at a point [-]
 CUTOFF = 1e-4
@@ -180,15 +181,17 @@ def elevation(table: np.ndarray, ramp: float, x: float, y: float, t: float) -> t
     return f0 * eta, f0 * ex, f0 * ey
 
 
+@njit(cache=True, inline="always")
 def scratch_size(table: np.ndarray) -> int:
     """Length of the work array :func:`wave_at` needs."""
     return 2 * table.shape[0] + _ACC_SIZE
 
 
 @njit(cache=True)
-def wave_at(table: np.ndarray, depth: float, stretch: int, ramp: float, x: float, y: float, z: float, t: float,
-            gradients: bool, work: np.ndarray, out: np.ndarray) -> int:
-    """Wave kinematics at the point (x, y, z) [m] (z from the mean level) and time t [s].
+def wave_at(table: np.ndarray, depth: float, stretch: int, ramp: float, crest: float, x: float, y: float, z: float,
+            t: float, gradients: bool, work: np.ndarray, out: np.ndarray) -> int:
+    """Wave kinematics at the point (x, y, z) [m] (z from the mean level) and time t [s]
+    (``crest``: :func:`crest_bound` of the table [m]).
 
     Writes :data:`OUT_SIZE` values to ``out`` (layout :data:`ETA` ...): the elevation and its
     slopes, the particle velocity [m/s] and the fluid's acceleration [m/s^2], and with
@@ -203,7 +206,7 @@ def wave_at(table: np.ndarray, depth: float, stretch: int, ramp: float, x: float
     if n == 0:
         return 0
     deep = math.isinf(depth)
-    top = crest_bound(table)
+    top = crest
     # highest stretched height any elevation can give (Wheeler); for the reach test
     if stretch == STRETCH_WHEELER:
         z_hi = z + top if deep else depth * (z + top) / (depth - top) if depth > top else 0.0
@@ -331,3 +334,36 @@ def wave_at(table: np.ndarray, depth: float, stretch: int, ramp: float, x: float
                 else:
                     out[DACC + 3 * (c6 - 3) + m] += f0 * d
     return used
+
+
+@njit(cache=True, inline="always")
+def water_waves(w: WaterModel, x: float, y: float, z: float, t: float, gradients: bool, work: np.ndarray,
+                out: np.ndarray) -> int:
+    """:func:`wave_at` for the water ``w`` at the point (x, y, z) [m] (z: height, not from
+    the mean level)."""
+    return wave_at(w.waves, w.wave_depth, w.wave_stretch, w.wave_ramp, w.wave_crest, x, y, z - w.surface_z, t,
+                   gradients, work, out)
+
+
+@njit(cache=True, inline="always")
+def surface_height(w: WaterModel, x: float, y: float, t: float) -> tuple:
+    """Height of the instantaneous free surface [m] and its slopes at (x, y) [m] and time t
+    [s]: ``surface_z`` and zero slopes in still water."""
+    if w.waves.shape[0] == 0:
+        return w.surface_z, 0.0, 0.0
+    eta, ex, ey = elevation(w.waves, w.wave_ramp, x, y, t)
+    return w.surface_z + eta, ex, ey
+
+
+
+@njit(cache=True)
+def flow_at(w: WaterModel, r: np.ndarray, t: float, vf: np.ndarray, af: np.ndarray) -> None:
+    """Flow velocity [m/s] and acceleration [m/s^2] at the point ``r`` (3,) [m] and time t
+    [s], written to ``vf`` and ``af``: current, turbulence and waves (for a body's centre)."""
+    flow(w, r[2], t, vf, af)
+    if w.waves.shape[0] > 0:
+        kin = np.empty(OUT_SIZE)
+        water_waves(w, r[0], r[1], r[2], t, False, np.empty(scratch_size(w.waves)), kin)
+        for k in range(3):
+            vf[k] += kin[VEL + k]
+            af[k] += kin[ACC + k]
