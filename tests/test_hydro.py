@@ -516,7 +516,7 @@ DEPTH_Z = -12.0  # height of the evaluation point [m]
 def _water(kind=CURRENT_NONE, v0=(0.0, 0.0, 0.0), grad=(0.0, 0.0, 0.0), turb=None, turb_dt=0.5):
     table = np.zeros((0, 3)) if turb is None else np.ascontiguousarray(turb, dtype=float)
     return WaterModel(True, RHO, MU_W, 0.0, G, kind, np.array(v0, dtype=float), np.array(grad, dtype=float),
-                      0.0, turb_dt, table, np.zeros((0, 9)), math.inf, 0, 0.0, 0.0)
+                      0.0, turb_dt, table, np.zeros((0, 9)), math.inf, 0, 0.0, 0.0, 0.0)
 
 
 def _load(w, kind, g_amp, cm=1.0, v=(0.0, 0.0, 0.0), a=(0.0, 0.0, 0.0), t=0.0, cd=0.0):

@@ -28,7 +28,8 @@ def _water(stretch: int) -> WaterModel:
     table = W.component_table(np.array([2 * math.pi / PERIOD]), np.array([AMP]), np.array([PHASE]), np.zeros(1),
                               None, 0.0, DEPTH, G)
     return WaterModel(True, RHO, MU, 0.0, G, CURRENT_NONE, np.zeros(3), np.zeros(3), 0.0, 1.0, np.zeros((0, 3)),
-                      table, DEPTH, stretch, 0.0, W.crest_bound(table))
+                      table, DEPTH, stretch, 0.0, W.crest_bound(table),
+                      float(np.sum(table[:, W.A] * table[:, W.K])))
 
 
 def _cable() -> tuple[CableHydro, np.ndarray, np.ndarray]:

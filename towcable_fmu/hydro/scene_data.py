@@ -8,7 +8,7 @@ import numpy as np
 from ..scene.model import Scene
 from .towbody import BodyHydro, no_body
 from .water import CURRENT_KINDS, WaterModel, dry_water
-from .waves import crest_bound, scene_waves
+from .waves import A, K, crest_bound, scene_waves
 
 
 def build_water(scene: Scene) -> WaterModel:
@@ -21,7 +21,7 @@ def build_water(scene: Scene) -> WaterModel:
     return WaterModel(True, w.density, w.viscosity, w.surface_z, scene.environment.gravity,
                       CURRENT_KINDS[w.current.type], np.array(w.current.velocity, dtype=float),
                       np.array(w.current.gradient, dtype=float), 0.0, 1.0, np.zeros((0, 3)), table, depth, stretch,
-                      ramp, crest_bound(table))
+                      ramp, crest_bound(table), float(np.sum(np.abs(table[:, A]) * table[:, K])))
 
 
 def build_body(scene: Scene, index: int) -> BodyHydro:

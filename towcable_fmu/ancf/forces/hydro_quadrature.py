@@ -18,6 +18,7 @@ the surface's slope.
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -52,13 +53,28 @@ def element_section(hy: CableHydro, e: int) -> Section:
 
 
 @njit(cache=True, inline="always")
-def _is_dry(w: WaterModel, x: np.ndarray, base: int, length: float) -> bool:
-    """Convex-hull test: all Bezier control points of the element above the highest crest."""
+def _is_dry(w: WaterModel, x: np.ndarray, base: int, length: float, t: float) -> bool:
+    """Convex-hull test: all Bezier control points of the element above the highest crest,
+    or in waves above the surface at the hull's centre plus its horizontal radius times
+    the surface's steepest slope (a bound of the surface over the hull)."""
     z0 = x[base + 2]
     z1 = x[base + 8]
     c0 = z0 + length * x[base + 5] / 3.0
     c1 = z1 - length * x[base + 11] / 3.0
-    return min(min(z0, z1), min(c0, c1)) > w.surface_z + w.wave_crest
+    low = min(min(z0, z1), min(c0, c1))
+    if low > w.surface_z + w.wave_crest:
+        return True
+    if w.waves.shape[0] == 0:
+        return False
+    px = (x[base], x[base] + length * x[base + 3] / 3.0, x[base + 6] - length * x[base + 9] / 3.0, x[base + 6])
+    py = (x[base + 1], x[base + 1] + length * x[base + 4] / 3.0, x[base + 7] - length * x[base + 10] / 3.0,
+          x[base + 7])
+    mx = 0.25 * (px[0] + px[1] + px[2] + px[3])
+    my = 0.25 * (py[0] + py[1] + py[2] + py[3])
+    radius = 0.0
+    for i in range(4):
+        radius = max(radius, math.hypot(px[i] - mx, py[i] - my))
+    return low > surface_height(w, mx, my, t)[0] + radius * w.wave_slope
 
 
 @njit(cache=True, inline="always")
@@ -132,7 +148,7 @@ def add_residual(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
             continue
         base = 6 * e
         length = el_len[e]
-        if _is_dry(w, q, base, length):
+        if _is_dry(w, q, base, length, t):
             continue
         count = _quadrature(w, q, base, length, hy.el_npts[e], t, xi, wt, g, dg, cross)
         section = element_section(hy, e)
@@ -169,7 +185,7 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
         return False
     base = 6 * e
     length = el_len[e]
-    if _is_dry(w, q, base, length):
+    if _is_dry(w, q, base, length, t):
         return False
     npts = hy.el_npts[e]
     m = 2 * npts
