@@ -430,13 +430,16 @@ SNAP_BARE = {"cable.segments[0].loading": "bare", "cable.segments[0].tangential_
 
 @pytest.mark.parametrize("scene, t_run, h, overrides", [("full_scale", 0.5, 0.05, {}),
                                                         ("snapping_cable", 0.05, 5e-4, SNAP_BARE),
-                                                        ("flume", 0.1, 2e-3, {})])
+                                                        ("flume", 0.1, 2e-3, {}),
+                                                        ("full_scale", 1.5, 0.05, {"water.waves": "motion",
+                                                                                    "motion.ramp": 1.0})])
 def test_iteration_matrix_water_part_matches_central_differences_of_the_residual(scene, t_run, h, overrides):
     """In a running scene, the part of the iteration matrix ``M + cv C + cq K`` that the water
     adds (the matrix minus that of the same state with the water disabled: cable and body
     hydrodynamics) against central differences of the residual's water part.
     full_scale: bare and faired cable, C_D(Re), G = 3.54, a cable crossing the surface;
-    snapping_cable (with SNAP_BARE): constant C_D; flume: a current varying with depth, turbulence.
+    snapping_cable (with SNAP_BARE): constant C_D; flume: a current varying with depth, turbulence;
+    full_scale in the motion's waves (Wheeler, the wave kinematics moving with the point).
 
     * As Newton uses it: a + da, v + cv da, q + cq da with the integrator's weights at
       step h (cv = h/2, cq = h^2/4) and a position change of 1e-8 m (smaller and round-off
@@ -453,8 +456,10 @@ def test_iteration_matrix_water_part_matches_central_differences_of_the_residual
 
     Left out: the K entries of an element crossing the surface (crossing_stiffness
     differentiates the wet length but not the load at the moving crossing point: up to
-    4 % of K's largest entry) and, in the depth-varying current, the body's rows (its
-    tangent, hydro/towbody.py, leaves out the depth derivative of the current).
+    4 % of K's largest entry; in waves, every element that reaches between the deepest
+    trough and the highest crest) and, in the depth-varying current or in waves, the
+    body's rows (its tangent, hydro/towbody.py, leaves out how the flow changes with the
+    body's position).
     """
     sim = Simulation.from_scene(scene, overrides)
     sim.initialize()
@@ -467,16 +472,21 @@ def test_iteration_matrix_water_part_matches_central_differences_of_the_residual
 
     z = water.q[2:6 * m.el_len.size + 3:6] - m.water.surface_z
     crossing = np.zeros(n, dtype=bool)
-    for e in np.flatnonzero(z[:-1] * z[1:] < 0.0):
+    band = m.water.wave_crest
+    for e in np.flatnonzero((z[:-1] * z[1:] < 0.0) | (np.minimum(z[:-1], z[1:]) < band)
+                            & (np.maximum(z[:-1], z[1:]) > -band)):
         crossing |= (free >= 6 * e) & (free < 6 * e + 12)
     rows = np.ones(n, dtype=bool)
-    if m.water.current_kind == CURRENT_LINEAR:
+    if m.water.current_kind == CURRENT_LINEAR or band > 0.0:
         rows &= (free < m.terms.towbody.index) | (free >= m.terms.towbody.index + 3)
     everywhere = rows[:, None] & np.ones(n, dtype=bool)
     away_from_crossing = everywhere & ~crossing[:, None] & ~crossing[None, :]
 
     da = 1e-8 / cq
-    checks = [((1.0, cv, cq), water.differences(cq * da, cv * da, da) / da, away_from_crossing),
+    # in waves the cable's accelerations are larger and the added-mass turning left out of the
+    # tangent reaches 1.5e-6 of the matrix at them (measured): the waves' own tangent is checked at a = 0
+    at = np.zeros_like(water.a) if band > 0.0 else None
+    checks = [((1.0, cv, cq), water.differences(cq * da, cv * da, da, at) / da, away_from_crossing),
               ((1.0, 0.0, 0.0), water.differences(0.0, 0.0, 1.0), everywhere),
               ((0.0, 1.0, 0.0), water.differences(0.0, 1e-7, 0.0) / 1e-7, everywhere),
               ((0.0, 0.0, 1.0), water.differences(1e-7, 0.0, 0.0, np.zeros_like(water.a)) / 1e-7, away_from_crossing)]
@@ -491,7 +501,7 @@ def test_iteration_matrix_water_part_matches_central_differences_of_the_residual
 # These tests call the per-point kernel `towcable_fmu.hydro.cable.point_load` with a
 # WaterModel built here, and compare with W(58) evaluated independently below from the
 # loading functions and C_D(Re) (themselves checked against hand values above).
-from towcable_fmu.hydro.cable import Section, point_load  # noqa: E402
+from towcable_fmu.hydro.cable import NO_WAVE, NO_WAVE_GRADIENT, Section, point_load  # noqa: E402
 from towcable_fmu.hydro.water import CURRENT_LINEAR, CURRENT_NONE, CURRENT_UNIFORM, WaterModel, flow
 
 MU_W = 1.2e-3
@@ -506,14 +516,14 @@ DEPTH_Z = -12.0  # height of the evaluation point [m]
 def _water(kind=CURRENT_NONE, v0=(0.0, 0.0, 0.0), grad=(0.0, 0.0, 0.0), turb=None, turb_dt=0.5):
     table = np.zeros((0, 3)) if turb is None else np.ascontiguousarray(turb, dtype=float)
     return WaterModel(True, RHO, MU_W, 0.0, G, kind, np.array(v0, dtype=float), np.array(grad, dtype=float),
-                      0.0, turb_dt, table)
+                      0.0, turb_dt, table, np.zeros((0, 9)), math.inf, 0, 0.0, 0.0, 0.0)
 
 
 def _load(w, kind, g_amp, cm=1.0, v=(0.0, 0.0, 0.0), a=(0.0, 0.0, 0.0), t=0.0, cd=0.0):
     """Kernel load per unit length minus the buoyancy rho A g e_z (checked separately)."""
     section = Section(int(kind), D_CAB, AREA, float(cd), float(g_amp), float(cm), 0.0)
     v, a = (tuple(float(x) for x in vec) for vec in (v, a))
-    f = np.array(point_load(w, section, float(t), DEPTH_Z, tuple(float(x) for x in SLOPE), v, a))
+    f = np.array(point_load(w, section, float(t), DEPTH_Z, tuple(float(x) for x in SLOPE), v, a, NO_WAVE))
     f[2] -= RHO * AREA * G
     return f
 
@@ -833,7 +843,8 @@ def test_point_tangent_matches_central_differences_of_the_point_load(kind, cd):
     zero = (0.0, 0.0, 0.0)
 
     def load(rz, p, v):
-        return np.array(point_load(w, section, t, float(rz), tuple(map(float, p)), tuple(map(float, v)), zero))
+        return np.array(point_load(w, section, t, float(rz), tuple(map(float, p)), tuple(map(float, v)), zero,
+                                   NO_WAVE))
 
     vel, acc = np.empty(3), np.empty(3)
     checked = 0
@@ -847,7 +858,10 @@ def test_point_tangent_matches_central_differences_of_the_point_load(kind, cd):
         mean = np.array(v0) + np.array(grad) * rz
         if _near_kink(kind, _flow_angle(rel, u)) or _near_kink(kind, _flow_angle(mean, u)):
             continue
-        f, dv, dp, dz = (np.array(x) for x in point_tangent(w, section, t, rz, tuple(p), tuple(v)))
+        f, dv, dp, dr = (np.array(x) for x in point_tangent(w, section, t, rz, tuple(p), tuple(v), NO_WAVE,
+                                                            NO_WAVE_GRADIENT))
+        dz = dr[2::3]
+        assert not dr.reshape(3, 3)[:, :2].any()
         np.testing.assert_allclose(f, load(rz, p, v), rtol=0.0, atol=1e-13 * np.linalg.norm(f))
         dv = dv.reshape(3, 3)
         dp = dp.reshape(3, 3)

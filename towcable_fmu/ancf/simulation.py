@@ -24,6 +24,7 @@ from ..contact.surfaces import WINCH
 from .output_kernel import OUTPUT_FIELDS, OutputLayout, OutputScene, Recording, advance_recording
 from ..errors import SceneError, SolverError
 from ..hydro.turbulence import TurbulenceSeries
+from ..hydro.water import still_water
 from . import genalpha
 from .statics import solve_statics
 from ..scene.model import Scene
@@ -221,7 +222,7 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         st.clock[:] = (t0, self.options.h_max, 0.0, 0.0)
         cfg = self._statics_settings
         if cfg.enabled if statics is None else statics:
-            steady = self.model._replace(water=self.model.water._replace(turb=np.zeros((0, 3))))
+            steady = self.model._replace(water=still_water(self.model.water))
             if self._held_forces is not None:  # released at t0 (the run's own loads)
                 steady = steady._replace(f_const=self._held_forces)
             result = solve_statics(steady, st.q, ship0, st.phi, t0, tolerance=cfg.tolerance,

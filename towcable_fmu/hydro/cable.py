@@ -40,6 +40,10 @@ from .water import CURRENT_LINEAR, WaterModel, mean_flow, turbulence
 _TINY = 1e-12
 _ZERO3 = (0.0, 0.0, 0.0)
 _ZERO9 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+#: The ``wave`` argument of :func:`point_load` in still water
+NO_WAVE = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+#: The ``dwave`` argument of :func:`point_tangent` in still water
+NO_WAVE_GRADIENT = (0.0,) * 18
 
 
 # Scalar arguments only: a plain kernel, compiled once with the loading functions and
@@ -101,6 +105,27 @@ def _combine(a: float, x: tuple, b: float, y: tuple) -> tuple:
     return (a * x[0] + b * y[0], a * x[1] + b * y[1], a * x[2] + b * y[2],
             a * x[3] + b * y[3], a * x[4] + b * y[4], a * x[5] + b * y[5],
             a * x[6] + b * y[6], a * x[7] + b * y[7], a * x[8] + b * y[8])
+
+
+@njit(cache=True, inline="always")
+def _product(x: tuple, y: tuple, offset: int) -> tuple:
+    """The 3x3 product ``x Y`` (row-major 9-tuples; Y the 9 entries of ``y`` from ``offset``)."""
+    return (x[0] * y[offset] + x[1] * y[offset + 3] + x[2] * y[offset + 6],
+            x[0] * y[offset + 1] + x[1] * y[offset + 4] + x[2] * y[offset + 7],
+            x[0] * y[offset + 2] + x[1] * y[offset + 5] + x[2] * y[offset + 8],
+            x[3] * y[offset] + x[4] * y[offset + 3] + x[5] * y[offset + 6],
+            x[3] * y[offset + 1] + x[4] * y[offset + 4] + x[5] * y[offset + 7],
+            x[3] * y[offset + 2] + x[4] * y[offset + 5] + x[5] * y[offset + 8],
+            x[6] * y[offset] + x[7] * y[offset + 3] + x[8] * y[offset + 6],
+            x[6] * y[offset + 1] + x[7] * y[offset + 4] + x[8] * y[offset + 7],
+            x[6] * y[offset + 2] + x[7] * y[offset + 5] + x[8] * y[offset + 8])
+
+
+@njit(cache=True, inline="always")
+def _normal_product(ux: float, uy: float, uz: float, y: tuple) -> tuple:
+    """``(I - u u^T) Y`` with Y the 3x3 matrix of entries 9 to 17 of ``y`` (row-major)."""
+    return _product((1.0 - ux * ux, -ux * uy, -ux * uz, -uy * ux, 1.0 - uy * uy, -uy * uz,
+                     -uz * ux, -uz * uy, 1.0 - uz * uz), y, 9)
 
 
 # A plain kernel as drag (two calls per point).
@@ -231,17 +256,26 @@ def unit_direction(p: tuple) -> tuple:
 
 
 @njit(cache=True, inline="always")
-def point_load(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v: tuple, a: tuple) -> tuple:
+def point_load(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v: tuple, a: tuple,
+               wave: tuple) -> tuple:
     """Hydrodynamic load per unit length [N/m] at a submerged point of height ``rz`` [m],
     slope ``p`` (3-tuple, any length), velocity ``v`` [m/s] and acceleration ``a`` [m/s^2]
-    (3-tuples; pass a = 0 to leave out the added mass) at time ``t`` [s]."""
+    (3-tuples; pass a = 0 to leave out the added mass) at time ``t`` [s], in the waves'
+    particle velocity [m/s] and acceleration [m/s^2] ``wave`` (6-tuple; zeros in still
+    water), which join the current and the turbulence in the relative flow and the fluid's
+    acceleration (not the amplified mean drag, which is the mean current's)."""
     kind, d, area, cd, g_amp, cm, cdt = section
     vx, vy, vz = v
     ax, ay, az = a
     ux, uy, uz, lp = unit_direction(p)
     mx, my, mz = mean_flow(w, rz)
     tx, ty, tz, afx, afy, afz = turbulence(w, t)
-    fx, fy, fz = drag(w.density, w.viscosity, kind, d, cd, cdt, mx + tx - vx, my + ty - vy, mz + tz - vz, ux, uy, uz)
+    wx, wy, wz, wax, way, waz = wave
+    afx += wax
+    afy += way
+    afz += waz
+    fx, fy, fz = drag(w.density, w.viscosity, kind, d, cd, cdt, mx + tx + wx - vx, my + ty + wy - vy, mz + tz + wz - vz,
+                      ux, uy, uz)
     if g_amp != 1.0:
         sx, sy, sz = drag(w.density, w.viscosity, kind, d, cd, cdt, mx, my, mz, ux, uy, uz)
         fx += (g_amp - 1.0) * sx
@@ -260,22 +294,30 @@ def point_load(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v
 
 
 @njit(cache=True, inline="always")
-def point_tangent(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v: tuple) -> tuple:
+def point_tangent(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v: tuple, wave: tuple,
+                  dwave: tuple) -> tuple:
     """The load of :func:`point_load` without the added mass (a = 0) and its exact derivatives.
 
-    Arguments as :func:`point_load`. Returns ``(f, df/dv, df/dp, df/drz)``: the load per unit
-    length f [N/m] (3-tuple), its derivatives with respect to the point velocity [N s/m^2]
-    and the slope p [N/m] (9-tuples, row-major), and with respect to the height [N/m^2]
-    (3-tuple; zero unless the current varies with depth). The drag's derivatives are
-    :func:`drag_jacobian`'s; the added-mass term's dependence on the direction is left out
-    (the added-mass matrix W(74) is the tangent's inertia part)."""
+    Arguments as :func:`point_load`; ``dwave`` (18-tuple): the derivatives of the waves'
+    velocity [1/s] and acceleration [1/s^2] with respect to the point, row-major 3x3 each
+    (:func:`towcable_fmu.hydro.waves.wave_at`). Returns ``(f, df/dv, df/dp, df/dr)``: the
+    load per unit length f [N/m] (3-tuple), its derivatives with respect to the point
+    velocity [N s/m^2] and the slope p [N/m], and with respect to the point's position
+    [N/m^2] (9-tuples, row-major; zero unless the current varies with depth or there are
+    waves). The drag's derivatives are :func:`drag_jacobian`'s; the added-mass term's
+    dependence on the direction is left out (the added-mass matrix W(74) is the tangent's
+    inertia part)."""
     kind, d, area, cd, g_amp, cm, cdt = section
     vx, vy, vz = v
     ux, uy, uz, lp = unit_direction(p)
     mx, my, mz = mean_flow(w, rz)
     tx, ty, tz, afx, afy, afz = turbulence(w, t)
-    (fx, fy, fz), dv, du = drag_jacobian(w.density, w.viscosity, kind, d, cd, cdt, mx + tx - vx, my + ty - vy,
-                                         mz + tz - vz, ux, uy, uz)
+    wx, wy, wz, wax, way, waz = wave
+    afx += wax
+    afy += way
+    afz += waz
+    (fx, fy, fz), dv, du = drag_jacobian(w.density, w.viscosity, kind, d, cd, cdt, mx + tx + wx - vx,
+                                         my + ty + wy - vy, mz + tz + wz - vz, ux, uy, uz)
     gm = g_amp - 1.0
     if gm != 0.0:
         (sx, sy, sz), sdv, sdu = drag_jacobian(w.density, w.viscosity, kind, d, cd, cdt, mx, my, mz, ux, uy, uz)
@@ -291,6 +333,7 @@ def point_tangent(w: WaterModel, section: Section, t: float, rz: float, p: tuple
         gx, gy, gz = w.current_grad[0], w.current_grad[1], w.current_grad[2]
         dz = (j[0] * gx + j[1] * gy + j[2] * gz, j[3] * gx + j[4] * gy + j[5] * gz,
               j[6] * gx + j[7] * gy + j[8] * gz)
+    dr = (0.0, 0.0, dz[0], 0.0, 0.0, dz[1], 0.0, 0.0, dz[2])
     rho_a = w.density * area
     fz += rho_a * w.gravity
     # Froude-Krylov k (a_f - (a_f.u) u): derivative -k ((a_f.u) (I - u u^T) + u a_f,n^T)
@@ -304,4 +347,7 @@ def point_tangent(w: WaterModel, section: Section, t: float, rz: float, p: tuple
     fz += k_fk * nfz
     dfk = _span_matrix(-k_fk * afu, k_fk * afu, 0.0, 0.0, -k_fk, ux, uy, uz, nfx, nfy, nfz)
     dp = _combine(1.0 / lp, _combine(1.0, du, gm, sdu), 1.0 / lp, dfk)
-    return (fx, fy, fz), _combine(-1.0, dv, 0.0, _ZERO9), dp, dz  # V = V_f - v
+    # the waves change with the point: dV/dr = du_w/dr in the drag, k (I - u u^T) da_w/dr in the
+    # Froude-Krylov term (zero in still water)
+    dr = _combine(1.0, dr, 1.0, _combine(1.0, _product(dv, dwave, 0), k_fk, _normal_product(ux, uy, uz, dwave)))
+    return (fx, fy, fz), _combine(-1.0, dv, 0.0, _ZERO9), dp, dr  # V = V_f - v

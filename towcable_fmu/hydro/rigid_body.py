@@ -24,7 +24,9 @@ drag ``1/2 rho (C_D A)_i |u_i| u_i`` plus linear damping ``c_i u_i`` of the rela
 ``rho V (C_m,b + 1) (R^T dV_f/dt)_i``. Moments ``tau`` about the CG: buoyancy
 ``rho V g`` at the centre of buoyancy, the drag at d, rotational drag ``-k |w| w`` and
 damping ``-c w``. Gravity acts at the CG. Below the surface (the CG below
-``water.surface_z``) the fluid terms act, above it only gravity.
+``water.surface_z``, or in waves the instantaneous surface above it) the fluid terms act,
+above it only gravity; in waves the flow includes their velocity and acceleration at
+the CG (:mod:`towcable_fmu.hydro.waves`).
 
 The cable: its last node N is the tow point p (a spherical joint), eliminated exactly:
 ``X_N = r + R p``, ``V_N = v + R (w x p)``, ``A_N = a + R (dw/dt x p + w x (w x p))``.
@@ -53,7 +55,8 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from ..kernel_cache import njit
-from .water import WaterModel, flow
+from .water import WaterModel
+from .waves import flow_at, surface_height
 
 if TYPE_CHECKING:
     from ..scene.model import Scene
@@ -184,10 +187,10 @@ def body_residual(w: WaterModel, b: RigidBodyModel, gravity: float, q: np.ndarra
     moment = np.zeros(3)     # body axes, about the CG
     force[2] -= b.mass * gravity
     jeff = b.inertia.copy()
-    if q[2] < w.surface_z:
+    if q[2] < surface_height(w, q[0], q[1], t)[0]:
         vf = np.empty(3)
         af = np.empty(3)
-        flow(w, q[2], t, vf, af)
+        flow_at(w, q[:3], t, vf, af)
         buoy = np.zeros(3)
         buoy[2] = w.density * b.volume * w.gravity
         force += buoy

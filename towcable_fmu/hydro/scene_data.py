@@ -8,16 +8,20 @@ import numpy as np
 from ..scene.model import Scene
 from .towbody import BodyHydro, no_body
 from .water import CURRENT_KINDS, WaterModel, dry_water
+from .waves import A, K, crest_bound, scene_waves
 
 
 def build_water(scene: Scene) -> WaterModel:
-    """Water data for the kernels (no turbulence table yet: the simulation attaches it)."""
+    """Water data for the kernels (no turbulence table yet: the simulation attaches it), with
+    the waves of the motion's sea when ``waves = "motion"`` (:mod:`.waves`)."""
     w = scene.water
     if w is None:
         return dry_water()
+    table, depth, stretch, ramp = scene_waves(scene)
     return WaterModel(True, w.density, w.viscosity, w.surface_z, scene.environment.gravity,
                       CURRENT_KINDS[w.current.type], np.array(w.current.velocity, dtype=float),
-                      np.array(w.current.gradient, dtype=float), 0.0, 1.0, np.zeros((0, 3)))
+                      np.array(w.current.gradient, dtype=float), 0.0, 1.0, np.zeros((0, 3)), table, depth, stretch,
+                      ramp, crest_bound(table), float(np.sum(np.abs(table[:, A]) * table[:, K])))
 
 
 def build_body(scene: Scene, index: int) -> BodyHydro:

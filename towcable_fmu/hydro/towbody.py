@@ -13,6 +13,15 @@ height: all of these forces grow linearly with its submerged fraction
 (a body of upright sides); the iteration matrix leaves out the fraction's change with
 depth (rho V g / h, small beside the cable's axial stiffness). ``h = 0``: a point, wet
 or dry all at once.
+
+In waves (:mod:`towcable_fmu.hydro.waves`) the surface is the instantaneous one above the
+body's centre, the relative flow includes the waves' particle velocity and the inertia
+force their acceleration, all at the centre (Wheeler-stretched; the body is small
+against the wave length, so neither its diffraction of the waves nor the variation of
+the kinematics over it is modelled, nor the slamming impulse as it enters the water).
+The iteration matrix leaves out how the waves' kinematics and surface change with the
+body's position (of order rho C_D A |V| k omega a, small beside the cable's axial
+stiffness); the residual is exact, so Newton converges to the same solution.
 """
 
 from __future__ import annotations
@@ -22,7 +31,8 @@ from typing import NamedTuple
 import numpy as np
 
 from ..kernel_cache import njit
-from .water import WaterModel, flow
+from .water import WaterModel
+from .waves import flow_at, surface_height
 
 
 class BodyHydro(NamedTuple):
@@ -48,11 +58,12 @@ def no_body() -> BodyHydro:
 
 
 @njit(cache=True, inline="always")
-def submerged(w: WaterModel, b: BodyHydro, z: float) -> float:
-    """Submerged fraction [-] of the body with its centre at height ``z`` [m]."""
+def submerged(w: WaterModel, b: BodyHydro, r: np.ndarray, t: float) -> float:
+    """Submerged fraction [-] of the body with its centre at ``r`` [m] at time ``t`` [s]."""
+    surface = surface_height(w, r[0], r[1], t)[0]
     if b.height <= 0.0:
-        return 1.0 if z < w.surface_z else 0.0
-    return min(max((w.surface_z - z) / b.height + 0.5, 0.0), 1.0)
+        return 1.0 if r[2] < surface else 0.0
+    return min(max((surface - r[2]) / b.height + 0.5, 0.0), 1.0)
 
 
 @njit(cache=True)
@@ -63,13 +74,13 @@ def body_force(w: WaterModel, b: BodyHydro, r: np.ndarray, rv: np.ndarray, ra: n
     Returns False (and zero force) when the body is out of the water.
     """
     out[:] = 0.0
-    wet = submerged(w, b, r[2])
+    wet = submerged(w, b, r, t)
     if wet == 0.0:
         return False
     b.calls[0] += 1
     vf = np.empty(3)
     af = np.empty(3)
-    flow(w, r[2], t, vf, af)
+    flow_at(w, r, t, vf, af)
     rel = vf - rv
     out[2] += w.density * b.volume * w.gravity
     along = 0.0
@@ -100,12 +111,12 @@ def add_jacobian(w: WaterModel, b: BodyHydro, q: np.ndarray, v: np.ndarray, t: f
                  block: np.ndarray) -> bool:
     """The body's part of ``ca M + cv C`` (3x3, added to ``block``); False out of the water."""
     i0 = b.index
-    wet = submerged(w, b, q[i0 + 2])
+    wet = submerged(w, b, q[i0:i0 + 3], t)
     if wet == 0.0:
         return False
     vf = np.empty(3)
     af = np.empty(3)
-    flow(w, q[i0 + 2], t, vf, af)
+    flow_at(w, q[i0:i0 + 3], t, vf, af)
     rel = vf - v[i0:i0 + 3]
     along = 0.0
     for k in range(3):

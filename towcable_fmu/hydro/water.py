@@ -33,12 +33,24 @@ class WaterModel(NamedTuple):
     turb_t0: float        #: time of the first turbulence sample [s]
     turb_dt: float        #: sample interval [s]
     turb: np.ndarray      #: (n, 3) turbulent velocity samples [m/s]; n = 0: no turbulence
+    waves: np.ndarray     #: (n, 9) wave components (:func:`towcable_fmu.hydro.waves.component_table`); n = 0: none
+    wave_depth: float     #: water depth h [m] of the waves' dispersion (inf: deep water)
+    wave_stretch: int     #: stretching code (towcable_fmu.hydro.waves.STRETCHINGS)
+    wave_ramp: float      #: ramp time [s] of the waves (the motion's)
+    wave_crest: float     #: the highest crest and deepest trough of the waves, sum |a_i| [m]
+    wave_slope: float     #: the steepest slope of the surface, sum |a_i| k_i [-]
 
 
 def dry_water() -> WaterModel:
     """The water of a scene without water."""
     return WaterModel(False, 0.0, 1.0, -np.inf, 0.0, CURRENT_NONE, np.zeros(3), np.zeros(3), 0.0, 1.0,
-                      np.zeros((0, 3)))
+                      np.zeros((0, 3)), np.zeros((0, 9)), np.inf, 0, 0.0, 0.0, 0.0)
+
+
+def still_water(w: WaterModel) -> WaterModel:
+    """``w`` without its turbulence and waves (the steady flow of a static equilibrium)."""
+    return w._replace(turb=np.zeros((0, 3)), waves=np.zeros((0, w.waves.shape[1])), wave_crest=0.0,
+                      wave_slope=0.0)
 
 
 @njit(cache=True, inline="always")

@@ -361,6 +361,16 @@ class Water:
     surface_z: float = spec(0.0, unit="m", doc="height z of the (flat) free surface; below it is water")
     current: Current = spec(Current(), doc="mean flow")
     turbulence: Turbulence | None = spec(None, doc="turbulent fluctuation of the flow (absent: none)")
+    waves: str = spec("off", choices=("off", "motion"),
+                      doc="wave kinematics on the cable and the towed body: off (still water, flat surface at "
+                          "surface_z), or motion (the irregular sea of [motion], the realisation that moves the "
+                          "ship; ANCF cable only)")
+    depth: float | None = spec(None, unit="m", gt=0.0,
+                               doc="water depth below surface_z for the waves' finite-depth dispersion "
+                                   "(absent: deep water)")
+    stretching: str = spec("wheeler", choices=("wheeler", "extrapolation"),
+                           doc="wave kinematics near the surface: wheeler (stretched to the instantaneous "
+                               "surface) or extrapolation (linear above the mean level)")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -678,6 +688,13 @@ class Scene:
             weight = body.mass * self.environment.gravity
             if not 0.0 <= weight - body.net_weight:
                 raise SceneError("towbody.net_weight", body.net_weight, f"<= the weight m_b g = {weight:g} N")
+        if self.water is not None and self.water.waves != "off" and self.cable.formulation != "ancf":
+            raise SceneError("water.waves", self.water.waves, "'off' unless model = 'ancf' (the other "
+                                                              "formulations see still water)")
+        motion_type = None if self.motion is None else self.motion.get("type")
+        if self.water is not None and self.water.waves == "motion" and motion_type != "irregular":
+            raise SceneError("water.waves", "motion", "'off' unless [motion] is an irregular sea (type = "
+                                                      f"'irregular'; here: {motion_type or 'no [motion]'})")
         if self.idlers and self.sheave is None:
             raise SceneError("idlers", f"{len(self.idlers)} entries", "none without a [sheave]")
         if self.viv is not None:
