@@ -71,3 +71,50 @@ def test_the_assembly_names_no_term():
     names = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)} | \
         {n.attr for n in ast.walk(tree) if isinstance(n, ast.Attribute)}
     assert not names & ({t.NAME for t in forces.TERMS} | {"contact", "hydro", "body", "rigid", "load", "wake"})
+
+
+@pytest.mark.parametrize("module", ["simulation", "remeshing", "state_queries"])
+def test_the_simulation_names_no_term(module):
+    """The ANCF simulation and its two parts reach the terms through their hooks only: no
+    term module imported, no term's data read (``model.terms.<name>``), no term named."""
+    tree = ast.parse((ROOT / f"towcable_fmu/ancf/{module}.py").read_text(encoding="utf-8"))
+    term_names = {t.NAME for t in forces.TERMS}
+    imported = {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
+    assert not {m for m in imported if m and m.startswith("forces.") and m != "forces.hooks"}
+    assert not [n for n in ast.walk(tree) if isinstance(n, ast.Attribute) and n.attr == "terms"]
+    words = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)} | \
+        {n.attr for n in ast.walk(tree) if isinstance(n, ast.Attribute)} | \
+        {n.value for n in ast.walk(tree) if isinstance(n, ast.Constant) and isinstance(n.value, str)}
+    assert not words & (term_names | {"viv", "rigid", "load"})
+
+
+def test_the_terms_declare_outputs_of_the_contract():
+    """Every output a term's hooks declare is a signal of the contract; a term with an
+    output outside the compiled kernel computes it in Python (its hooks' ``values``)."""
+    from towcable_fmu import contract
+    from towcable_fmu.ancf.forces.hooks import TermHooks
+    from towcable_fmu.ancf.output_kernel import OUTPUT_FIELDS
+
+    for module in forces.TERMS:
+        hooks = getattr(module, "Hooks", TermHooks)
+        assert set(hooks.OUTPUTS) <= set(contract.signals()), module.NAME
+        if set(hooks.OUTPUTS) - set(OUTPUT_FIELDS):
+            assert hooks.values is not TermHooks.values, module.NAME
+
+
+@pytest.mark.parametrize("scene, overrides, declared", [
+    ("full_scale", {}, {"towbody": 7, "contact": 8}),
+    ("sea_trial_turn_rigid", {"model": "ancf"}, {"rigid_link": 10}),
+    ("pulley_static", {}, {"contact": 7, "rigid_load": 3}),
+])
+def test_the_outputs_of_a_scene_are_the_cables_and_its_terms(scene, overrides, declared):
+    """The scene's outputs: the cable's own (and the winch's payout with a winch) and the
+    outputs its terms' hooks declare for it, no other."""
+    from towcable_fmu.ancf.output_kernel import CABLE_OUTPUTS
+
+    sim = Simulation.from_scene(scene, overrides)
+    counts = {h.name: len(h.outputs) for h in sim.hooks if h.outputs}
+    assert counts == declared
+    terms = [name for h in sim.hooks for name in h.outputs]
+    winch = ("winch.payout",) if "winch.payout" in sim.names else ()
+    assert sorted(sim.names) == sorted(CABLE_OUTPUTS + winch + tuple(terms))

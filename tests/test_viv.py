@@ -233,7 +233,7 @@ def test_lock_in_response_at_the_strouhal_frequency(lock_in):
     sim, z = lock_in[h]
     amplitude, omega = _steady(z, h)
     early, _ = _amplitude_and_frequency(z[-int(5.0 / h):-int(3.0 / h)], h)
-    viv = sim.viv
+    viv = next(h for h in sim.hooks if h.name == "wake").coupling
     w_amp = float(np.sqrt(viv.w**2 + (viv.wd / viv.omega) ** 2).mean())  # phase-plane radius
     lift = viv.k_cf * w_amp * viv.omega  # N/m
     mass = 0.5 * MU * SPAN + _added_modal_mass()

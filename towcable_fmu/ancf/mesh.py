@@ -138,42 +138,6 @@ def build_model(scene: Scene, mesh: Mesh) -> CableModel:
     return model._replace(terms=build_terms(scene, mesh, model))
 
 
-def held_load_forces(scene: Scene, model: CableModel) -> np.ndarray:
-    """The constant loads with a rigid load held at rest along the cable's initial direction.
-
-    A load released at rest on a taut rope (Westin 2018, section 4.1) pulls at the moment
-    of release with the component of its weight along the rope, ``m_L g . e`` (the rope
-    and the load move as one pendulum then, with no speed and so no centripetal part);
-    the holder carried the rest. Holding the load so is a static equilibrium: the weight
-    at G less its component normal to ``e`` (shared by P and I as the weight is,
-    W(138)). The statics with these loads start the run from the tension the load pulls
-    with as it is let go.
-
-    Parameters
-    ----------
-    scene
-        A scene with a rigid ``[load]``; ``e`` is ``cable.initial.direction`` (inertial).
-    model
-        Its compiled model.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``model.f_const`` with the holder's force added [N].
-    """
-    load = scene.load
-    e = np.asarray(scene.cable.initial.direction, dtype=float)
-    e = e / np.linalg.norm(e)
-    weight = np.array([0.0, 0.0, -load.mass * scene.environment.gravity])
-    hold = -(weight - (weight @ e) * e)  # the holder takes the weight's component normal to the rope
-    kappa = load.length_pg / load.length_pi
-    forces = model.f_const.copy()
-    p, i = model.terms.rigid_load.index - 6, model.terms.rigid_load.index
-    forces[p:p + 3] += (1.0 - kappa) * hold
-    forces[i:i + 3] += kappa * hold
-    return forces
-
-
 def winch_radius(scene: Scene) -> float:
     """Radius at which the cable centreline wraps the drum: r_w + d/2 of the first segment [m].
 

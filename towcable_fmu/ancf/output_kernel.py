@@ -11,7 +11,7 @@ docs/design.md ("Output names"). :class:`OutputLayout` says which of them a scen
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import Iterable, NamedTuple
 
 import numpy as np
 
@@ -39,10 +39,17 @@ OUTPUT_FIELDS = ("tension.top", "tension.bottom", "tension.max", "tension.min", 
                  "energy.kinetic", "energy.strain", "energy.gravity", "winch.phi", "winch.payout",
                  "towbody.roll", "towbody.pitch", "towbody.yaw", "winch.deployed")
 _FIELD = {name: k for k, name in enumerate(OUTPUT_FIELDS)}
-_TOWBODY = ("tension.towbody", "towbody.x", "towbody.y", "towbody.z", "towbody.vx", "towbody.vy", "towbody.vz")
-_CONTACT = ("contact.winch_force", "contact.sheave_force", "energy.contact")
-_SHEAVE = ("tension.sheave", "contact.wrap_angle", "contact.detached")
-_RIGID = ("towbody.roll", "towbody.pitch", "towbody.yaw")
+#: The cable's own outputs (the force terms declare theirs, :mod:`towcable_fmu.ancf.forces.hooks`).
+CABLE_OUTPUTS = ("tension.top", "tension.bottom", "tension.max", "tension.min", "angle.top", "energy.kinetic",
+                 "energy.strain", "energy.gravity", "winch.phi")
+#: The order the outputs are reported in (docs/design.md); any other output follows, in
+#: the order it is declared.
+_ORDER = ("tension.top", "tension.bottom", "tension.max", "tension.min", "angle.top",
+          "tension.towbody", "towbody.x", "towbody.y", "towbody.z", "towbody.vx", "towbody.vy", "towbody.vz",
+          "towbody.roll", "towbody.pitch", "towbody.yaw",
+          "contact.winch_force", "contact.sheave_force", "energy.contact", "tension.winch", "sheave_angle",
+          "tension.sheave", "contact.wrap_angle", "contact.detached",
+          "energy.kinetic", "energy.strain", "energy.gravity", "winch.phi", "winch.payout", "winch.deployed")
 
 
 class OutputScene(NamedTuple):
@@ -80,38 +87,23 @@ class OutputLayout:
 
     Parameters
     ----------
-    towbody, winch, sheave, contact
-        The scene has a towed body, a winch, a sheave, any contact surface.
-    spool
-        The winch pays the cable out from a spool end (its deployed length is an output).
-    rigid
-        The towed body is a rigid 6-DOF body (its attitude is an output too).
+    names
+        The scene's outputs: the cable's own and those its force terms declare
+        (:mod:`towcable_fmu.ancf.forces.hooks`), in any order; they are reported in the
+        order of docs/design.md, any other after them in the order given.
     """
 
-    def __init__(self, *, towbody: bool, winch: bool, sheave: bool, contact: bool, rigid: bool = False,
-                 spool: bool = False) -> None:
-        names = ["tension.top", "tension.bottom", "tension.max", "tension.min", "angle.top"]
-        if towbody:
-            names += _TOWBODY
-            if rigid:
-                names += _RIGID
-        if contact:
-            names += _CONTACT
-            if winch:
-                names.append("tension.winch")
-            if winch or sheave:
-                names.append("sheave_angle")
-            if sheave:
-                names += _SHEAVE
-        names += ["energy.kinetic", "energy.strain", "energy.gravity", "winch.phi"]
-        if winch:
-            names.append("winch.payout")
-        if spool:
-            names.append("winch.deployed")
+    def __init__(self, names: Iterable[str]) -> None:
+        names = tuple(dict.fromkeys(names))
+        rank = {name: k for k, name in enumerate(_ORDER)}
+        ordered = sorted(names, key=lambda n: (rank.get(n, len(_ORDER)), names.index(n)))
         #: Output names of the scene.
-        self.names: tuple[str, ...] = tuple(names)
-        #: Their positions in the array of :func:`output_values`.
-        self.index = np.array([_FIELD[n] for n in names], dtype=np.intp)
+        self.names: tuple[str, ...] = tuple(ordered)
+        #: Positions in :attr:`names` of the fields of :func:`output_values`, and those fields.
+        self.compiled = np.array([k for k, n in enumerate(ordered) if n in _FIELD], dtype=np.intp)
+        self.index = np.array([_FIELD[n] for n in ordered if n in _FIELD], dtype=np.intp)
+        #: Positions in :attr:`names` of the outputs computed in Python (not fields of the kernel).
+        self.python = np.array([k for k, n in enumerate(ordered) if n not in _FIELD], dtype=np.intp)
 
 
 @njit(cache=True, inline="always")

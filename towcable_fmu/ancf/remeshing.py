@@ -1,26 +1,22 @@
-"""Remeshing a running ANCF cable: splitting and merging elements on request, and the
-spool end's fed element followed as the winch pays out or hauls in (a part of
-:class:`~towcable_fmu.ancf.simulation.Simulation`).
+"""Remeshing a running ANCF cable: splitting and merging elements on request or when a
+term asks for it after a step (a spool end's fed element, followed as the winch pays out
+or hauls in: :class:`towcable_fmu.ancf.forces.feed.Hooks`); a part of
+:class:`~towcable_fmu.ancf.simulation.Simulation`.
 
 The mixin uses the simulation's state (``mesh``, ``model``, ``state``, ``workspace``,
-``scene``, ``viv``) and its ``_model_for``, ``_use``, ``_output_array`` and ``outputs``.
+``hooks``) and its ``_model_for``, ``_use`` and ``outputs``.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..errors import SceneError, SolverError
+from ..errors import SceneError
 from . import genalpha
-from .feed import (BOUNDARY_BAND, MERGE_FACTOR, SPLIT_FACTOR, apply_feed, feed_event, material_rates,
-                   section_boundaries)
+from .feed import apply_feed
 from .model import TAUT_RESIDUAL, Mesh
-from .output_kernel import OUTPUT_FIELDS
 from .remesh import merge_coordinates, merge_defect, merge_mesh, split_coordinates, split_mesh
 from .system import residual
-
-#: The index of ``winch.payout`` among the output fields.
-PAYOUT = OUTPUT_FIELDS.index("winch.payout")
 
 
 class Remeshing:
@@ -48,8 +44,8 @@ class Remeshing:
         Raises
         ------
         SceneError
-            If ``element`` or ``xi`` is out of range, or the scene has wake oscillators
-            (their states belong to the elements); nothing is changed.
+            If ``element`` or ``xi`` is out of range, or a term's state cannot follow (wake
+            oscillators: their states belong to the elements); nothing is changed.
         """
         return self._split(element, xi)
 
@@ -62,12 +58,8 @@ class Remeshing:
         except ValueError as exc:
             raise SceneError("split_element", (element, xi), str(exc)) from None
         st = self.state
-        material = None
-        feed = self.model.terms.feed
-        if feed.enabled and element == feed.element:
-            u, du = -feed.radius * st.phi[1], -feed.radius * st.phi[2]
-            span = slice(6 * element, 6 * element + 12)
-            material = material_rates(st.q[span], st.v[span], st.a[span], old.lengths[element], xi, u, du)
+        material = next((rates for rates in (h.new_node_rates(element, xi) for h in self.hooks)
+                         if rates is not None), None)
         new = slice(6 * (element + 1), 6 * (element + 2))  # the new node's coordinates
 
         def transfer(name: str, x: np.ndarray) -> np.ndarray:
@@ -88,8 +80,8 @@ class Remeshing:
         Raises
         ------
         SceneError
-            If there is no such pair in one segment, or the scene has wake oscillators;
-            nothing is changed.
+            If there is no such pair in one segment, or a term's state cannot follow (wake
+            oscillators); nothing is changed.
         """
         return self._merge(element)
 
@@ -110,9 +102,8 @@ class Remeshing:
         array of the state through ``transfer(name, old vector) -> new vector``, the matrix
         factorised afresh by the next step; the outputs after."""
         self._require_initialized()
-        if self.viv is not None:
-            raise SceneError(key, "a scene with wake oscillators", "a scene without them (viv): their states belong "
-                             "to the elements")
+        for hooks in self.hooks:
+            hooks.remesh(key)
         st, ship = self.state, self.workspace.ship.copy()
         model = self._model_for(mesh, float(st.phi[0]))
         state = genalpha.new_state(model)
@@ -129,62 +120,8 @@ class Remeshing:
         state.taut[:] = model.el_taut[TAUT_RESIDUAL]  # the taut points of the new elements
         return self.outputs()
 
-    def _follow_feed(self) -> bool:
-        """After a step reported a feed event, remesh a spool end's fed element: split it
-        where the next section's cable came in (``BOUNDARY_BAND`` nominal lengths past a
-        section boundary: the downstream piece keeps its section, the fed element takes the
-        new one); split it when it has grown to SPLIT_FACTOR nominal lengths (one nominal
-        element downstream, the rest upstream, where the cable comes in); or merge it with
-        the next when it has shrunk to MERGE_FACTOR (with the next section's element when
-        its own section is all hauled in: the merged element takes the next section, and
-        the last piece of the fed one, at most MERGE_FACTOR of a nominal length, with it).
-        False if there is no event (the step failed).
-
-        Raises
-        ------
-        SolverError
-            If the winch hauls in the whole cable, or a section whose cable differs from the
-            gear's (it cannot pass over drum and sheave).
-        """
-        if not feed_event(self.model):
-            return False
-        feed = self.model.terms.feed
-        fed, length, nominal = feed.element, float(self.model.el_len[feed.element]), feed.length_nom
-        mesh = self.mesh
-        if length >= feed.boundary + BOUNDARY_BAND * nominal:
-            boundaries = section_boundaries(np.array([seg.length for seg in self.scene.cable.segments]),
-                                            self.scene.winch.gear_segments)
-            upper = int(np.argmin(np.abs(boundaries - (np.sum(mesh.lengths[fed + 1:]) + feed.boundary))))
-            # the piece downstream, up to the boundary, keeps its section
-            self._split(fed, (length - feed.boundary) / length, self.scene.winch.gear_segments + upper)
-        elif length >= SPLIT_FACTOR * nominal:
-            self._split(fed, (length - nominal) / length)
-        elif mesh.n_elements > fed + 1 and mesh.segment_of_element[fed + 1] == mesh.segment_of_element[fed]:
-            self._merge(fed)
-        elif mesh.n_elements > fed + 1:
-            self._check_passes_the_gear(int(mesh.segment_of_element[fed + 1]))
-            self._merge(fed, across=True)
-        else:
-            raise SolverError(f"winch.payout = {float(self._output_array()[PAYOUT]):.6g} m at t = {self.time:.6g} s "
-                              f"hauls in the whole cable: the deployed length cannot go below "
-                              f"{float(mesh.node_arc[fed]) + MERGE_FACTOR * nominal:.6g} m (the gear and "
-                              f"{MERGE_FACTOR:g} of the last element); limit the winch's set-point")
-        return True
-
-    def _check_passes_the_gear(self, segment: int) -> None:
-        """A section hauled in passes over drum and sheave on the gear's mesh: its cable must
-        be the gear's.
-
-        Raises
-        ------
-        SolverError
-            Naming the first property that differs.
-        """
-        segments, gear = self.scene.cable.segments, self.scene.winch.gear_segments
-        name = segments[segment].cable_difference(segments[gear])
-        if name is not None:
-            raise SolverError(f"winch.payout = {float(self._output_array()[PAYOUT]):.6g} m at t = {self.time:.6g} s "
-                              f"hauls cable.segments[{segment}] onto the drum, but its {name} = "
-                              f"{getattr(segments[segment], name)!r} differs from the gear's "
-                              f"{getattr(segments[gear], name)!r}: it cannot pass over drum and sheave on "
-                              "their mesh; limit the winch's set-point")
+    def _after_event(self) -> bool:
+        """After a step stopped at an event (a spool end's fed element out of its band), the
+        term whose event it is remeshes (:meth:`~towcable_fmu.ancf.forces.hooks.TermHooks.handle_event`).
+        False if no term had an event (the step failed)."""
+        return any(hooks.handle_event() for hooks in self.hooks)

@@ -4,7 +4,9 @@ This is the physics without FMI: load a scene, initialise (statics), step, read
 outputs, get and set the complete state. The FMU slave, the command line, the tests
 and the benchmarks all drive this same object. Two parts of it live beside it: remeshing
 during a run (:mod:`.remeshing`) and what it tells of its state beyond the outputs
-(:mod:`.state_queries`).
+(:mod:`.state_queries`). It names no force term: what a term adds to a run (outputs,
+state, work between steps, queries) is its hooks' (:mod:`towcable_fmu.ancf.forces.hooks`),
+which it calls in loops.
 """
 
 from __future__ import annotations
@@ -15,13 +17,12 @@ from typing import Any, Mapping, NamedTuple
 import numpy as np
 
 from ..runtime import drive as drive_poly
-from .feed import MERGE_FACTOR, SPLIT_FACTOR, apply_feed, fed_length
+from .feed import apply_feed
 from .initial_layout import initial_coordinates, layout_from_scene
-from .mesh import build_mesh, build_model, held_load_forces
+from .mesh import build_mesh, build_model
 from .model import CableModel, Mesh
 from .compensation_setup import compensation_config, compensation_table
-from ..contact.surfaces import WINCH
-from .output_kernel import OUTPUT_FIELDS, OutputLayout, OutputScene, Recording, advance_recording
+from .output_kernel import CABLE_OUTPUTS, OUTPUT_FIELDS, OutputLayout, OutputScene, Recording, advance_recording
 from ..errors import SceneError, SolverError
 from ..hydro.turbulence import TurbulenceSeries
 from ..hydro.water import still_water
@@ -32,13 +33,12 @@ from ..runtime.ship_input import check_ship_state, motion_source
 from .winch_program import program_setpoints
 from ..runtime.driver import SimulationDriver
 from ..runtime.tables import reject_unmodelled
-from .forces import TABLES as TERM_TABLES
+from .forces import TABLES as TERM_TABLES, build_hooks
+from .forces.hooks import TermHooks
 from .stepper import new_stepper, save_state, step_to
-from .remeshing import PAYOUT as _PAYOUT, Remeshing
+from .remeshing import Remeshing
 from .state_queries import PROFILE_XI as _PROFILE_XI, StateQueries
 
-#: Outputs of a scene with a rigid load held by the cable (``[load]``), see :meth:`Simulation._load_outputs`.
-LOAD_OUTPUTS = ("tension.load", "load.angle", "energy.load")
 #: The scene tables the ANCF cable models: its force terms' and those the simulation reads itself.
 MODELLED_TABLES = TERM_TABLES + ("water.turbulence", "compensation", "motion")
 #: fewest nominal steps in a block of the run loop (one compiled call, one drive table)
@@ -48,6 +48,8 @@ _NO_OUTPUTS = np.zeros(0, dtype=np.intp)
 _NO_ROWS = np.empty((1, 0))
 _ALL_OUTPUTS = np.arange(len(OUTPUT_FIELDS), dtype=np.intp)
 _NO_DRIVE = (np.zeros(1), np.zeros((1, 3, 7)))
+#: The index of ``winch.payout`` among the output fields.
+_PAYOUT = OUTPUT_FIELDS.index("winch.payout")
 
 
 def solver_options(scene: Scene) -> genalpha.SolverOptions:
@@ -111,8 +113,6 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         #: what the initial shape needs of the scene
         self.start = layout_from_scene(scene)
         self._statics_settings = scene.statics
-        #: the constant loads with a held rigid load (statics only; None: nothing held)
-        self._held_forces = held_load_forces(scene, self.model) if scene.load is not None and scene.load.held else None
         self._turbulence_settings = None if scene.water is None else scene.water.turbulence
         #: the compensation's settings over the scene's geometry (None: the set-point is given)
         self._compensation_table = None if scene.compensation is None else compensation_table(scene)
@@ -127,6 +127,16 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
                 self.compensation = TensionControl(config)
         self.state = genalpha.new_state(self.model)
         self.workspace = genalpha.new_workspace(self.model)
+        self._moving_mesh = False
+        #: the force terms' hooks (:mod:`towcable_fmu.ancf.forces.hooks`), in the order of their terms
+        self.hooks: tuple[TermHooks, ...] = build_hooks(scene, self)
+        self._moving_mesh = any(h.MOVES_MESH for h in self.hooks)
+        #: the hooks with a state of their own, those acting between steps, those with outputs in Python
+        self._saving = tuple(h for h in self.hooks if h.save() is not None)
+        self._staggered = tuple(h for h in self.hooks if h.STAGGERED)
+        self._python_outputs = tuple(h for h in self.hooks if set(h.outputs) - set(OUTPUT_FIELDS))
+        #: the constant loads of the statics when a term changes them (a held rigid load; None: the model's)
+        self._held_forces = self._statics_loads(self.model)
         self._statics: dict[str, float] = {}
         self.turbulence: TurbulenceSeries | None = None
         self._setpoint = (0.0, 0.0)
@@ -140,32 +150,26 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         self._stepped: tuple[tuple, np.ndarray] | None = None
         #: the Stepper of the FMU's steps (:mod:`towcable_fmu.ancf.stepper`) with what it holds
         self._stepper: tuple | None = None
-        rigid = bool(self.model.terms.rigid_link.enabled)
-        #: The outputs this scene has (names in docs/design.md), see :meth:`outputs`.
-        self.layout = OutputLayout(towbody=scene.towbody is not None, winch=scene.winch is not None,
-                                   sheave=scene.sheave is not None, contact=bool(self.model.terms.contact.enabled),
-                                   rigid=rigid, spool=bool(self.model.terms.feed.enabled))
-        self.names = self.layout.names + (LOAD_OUTPUTS if self.model.terms.rigid_load.enabled else ())
-        #: What the compiled outputs need of the scene.
+        #: The outputs this scene has (names in docs/design.md): the cable's and its terms', see :meth:`outputs`.
+        self.layout = OutputLayout(CABLE_OUTPUTS + (("winch.payout",) if scene.winch is not None else ())
+                                   + tuple(name for h in self.hooks for name in h.outputs))
+        self.names = self.layout.names
+        #: What the compiled outputs need of the scene (the terms' fields from their hooks).
         self.output_scene = OutputScene(
-            xi=_PROFILE_XI, body_mass=-1.0 if scene.towbody is None or rigid else float(scene.towbody.mass),
+            xi=_PROFILE_XI, body_mass=-1.0,
             has_winch=scene.winch is not None,
             sheave_position=np.array(scene.sheave.position if scene.sheave is not None else [np.nan] * 3, dtype=float),
             payout_radius=self.start.winch_radius,
             phi_nom=float(scene.winch.phi_nom) if scene.winch is not None else 0.0)
-        #: wake oscillators of an enabled [viv] table (None: no vortex-induced vibration)
-        self.viv = None
-        if scene.viv is not None and scene.viv.enabled:
-            from .viv_coupling import WakeCoupling
-
-            self.viv = WakeCoupling(scene.viv, self.mesh, self.model, scene.water.current.velocity, scene.water.density)
+        for hooks in self.hooks:
+            self.output_scene = self.output_scene._replace(**hooks.output_scene)
 
     # ------------------------------------------------------------------ time
     @property
     def mesh(self) -> Mesh:
         """The element layout now: with a spool end, the fed first element at its current
         length (:mod:`towcable_fmu.ancf.feed`)."""
-        if not self.model.terms.feed.enabled:
+        if not self._moving_mesh:
             return self._mesh
         lengths = self.model.el_len.copy()
         return Mesh(lengths, self._mesh.segment_of_element, np.concatenate([[0.0], np.cumsum(lengths)]))
@@ -184,8 +188,9 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
                        statics: bool | None, q0: np.ndarray | None = None) -> None:
         """Lay out the initial shape, solve the statics and set consistent accelerations.
 
-        A rigid load with ``held = true`` is held in the statics along the cable's initial
-        direction and let go at ``t0`` (:func:`~towcable_fmu.ancf.mesh.held_load_forces`).
+        A term may change the statics' constant loads (a rigid load with ``held = true`` is
+        held along the cable's initial direction and let go at ``t0``,
+        :meth:`~towcable_fmu.ancf.forces.hooks.TermHooks.statics_loads`).
         ``q0``: start from these coordinates (full vector, e.g. the equilibrium of the same
         mesh under a slightly different load, to follow a load sweep) instead of the
         laid-out initial shape; the prescribed entries are overwritten.
@@ -195,14 +200,9 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         self._stepped = None
         if setpoint is not None:
             self._setpoint = setpoint
-        if self.model.terms.feed.enabled and self._mesh is not self._scene_mesh:
-            # the winch remeshed the cable in an earlier run: start from the scene's mesh (a
-            # split asked for by the caller, without a spool end, stays)
-            model = self._model_for(self._scene_mesh, self.output_scene.phi_nom)
-            self._use(self._scene_mesh, model, genalpha.new_state(model))
+        for hooks in self.hooks:
+            hooks.reset()
         st = self.state
-        if self.viv is not None:
-            self.viv.reset()
         st.phi[:] = 0.0
         if self.output_scene.has_winch:
             st.phi[0] = self._setpoint[0] if setpoint is not None else self.output_scene.phi_nom
@@ -210,7 +210,8 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
             if setpoint is None and self._program is not None:  # where the payout program starts
                 st.phi[0] = self._program_setpoints(np.array([t0]))[0, 0]
                 self._setpoint = (float(st.phi[0]), 0.0)
-        self._check_initial_feed(float(st.phi[0]))
+        for hooks in self.hooks:
+            hooks.start(float(st.phi[0]))
         apply_feed(self.model, st.phi)  # a spool end's first element at the winch's rotation
         st.q[:] = (initial_coordinates(self.start, self.mesh, self.model, ship0, st.phi) if q0 is None
                    else self._checked_coordinates(q0, "q0"))
@@ -252,29 +253,6 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         if not genalpha.initial_acceleration(self.model, self.options, st, self.workspace, t0, *drive):
             raise SolverError("the initial state has no finite acceleration (singular mass matrix or "
                               "non-finite forces)")
-
-    def _check_initial_feed(self, phi: float) -> None:
-        """A spool end starts on the scene's mesh: its fed element must lie inside the band
-        where it is neither split nor merged.
-
-        Raises
-        ------
-        SceneError
-            Naming the initial winch rotation and the payouts the scene can start from.
-        """
-        feed = self.model.terms.feed
-        if not feed.enabled:
-            return
-        shortest, longest = MERGE_FACTOR * feed.length_nom, SPLIT_FACTOR * feed.length_nom
-        if shortest < fed_length.py_func(feed, phi) < longest:  # (in Python: no kernel to compile for it)
-            return
-        payout = (shortest - feed.ref[0], longest - feed.ref[0])   # from phi_ref = phi_nom
-        raise SceneError("winch.phi_sp (initial)", phi,
-                         f"a rotation with a payout in ({payout[0]:.6g}, {payout[1]:.6g}) m, "
-                         f"phi in ({feed.ref[1] - payout[1] / feed.radius:.6g}, "
-                         f"{feed.ref[1] - payout[0] / feed.radius:.6g}) rad: a spool end starts from the scene's "
-                         "deployed length (its fed element between "
-                         f"{MERGE_FACTOR:g} and {SPLIT_FACTOR:g} nominal lengths); give the scene that length instead")
 
     def _start_turbulence(self, t0: float) -> None:
         """(Re)start the turbulence series at t0 (same seed: same series)."""
@@ -351,36 +329,34 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
                               f"failed at the minimum step size {self.options.h_min:g} s near t = {self.time:.6g} s"
                               f"{self._failure_hint()}")
         if self._payout_limit is not None:
-            payout = float(self._output_array()[_PAYOUT])
+            payout = self._payout()
             if payout > self._payout_limit:
                 raise self._payout_error(self.time, payout)
 
     def _failure_hint(self) -> str:
-        """What a failed step of a rigid-body scene may be due to (empty otherwise)."""
-        if not self.model.terms.rigid_link.enabled:
-            return ""
-        pitch = float(self.state.q[self.model.terms.rigid_link.index + 4])
-        return (f"; the rigid body's pitch is {pitch:.4g} rad, its Euler angles are singular at +-pi/2"
-                if abs(math.cos(pitch)) < 0.1 else "")
+        """What a failed step may be due to, as the terms tell (empty: nothing to say)."""
+        return "".join(hooks.failure_hint() for hooks in self.hooks)
 
     def _integrate(self, t_end: float, drive: tuple[np.ndarray, np.ndarray] | TaylorDrive) -> int:
-        """genalpha.advance to t_end; with wake oscillators, one solver step at a time with the
-        staggered coupling of :mod:`towcable_fmu.ancf.viv_coupling`. Returns the solver status."""
-        if self.viv is None:
+        """genalpha.advance to t_end; with a term that acts between steps (the wake
+        oscillators' staggered coupling, :mod:`towcable_fmu.ancf.viv_coupling`), one solver
+        step at a time between its hooks. Returns the solver status."""
+        if not self._staggered:
             return self._step_to(t_end, drive)
         if isinstance(drive, TaylorDrive):
             drive = drive_poly.taylor_drive(*drive)
-        st = self.state
         while self.time < t_end - 1e-12 * max(1.0, abs(t_end)):
             t = self.time
             h = min(self.options.h_max, t_end - t)
             if t_end - (t + h) < 1e-9 * h:
                 h = t_end - t
-            self.viv.predict(st.v, st.a, h)
+            for hooks in self._staggered:
+                hooks.before_step(h)
             status = self._step_to(t + h, drive)
             if status != genalpha.OK:
                 return status
-            self.viv.correct(st.v, self.time - t)
+            for hooks in self._staggered:
+                hooks.after_step(self.time - t)
         return genalpha.OK
 
     def advance(self, t_end: float) -> dict[str, float]:
@@ -454,14 +430,24 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         """The model of ``mesh`` with this run's water; a spool end's fed element has the
         mesh's first length at the winch rotation ``phi_ref`` [rad]."""
         model = build_model(self.scene, mesh)._replace(water=self.model.water)
-        model.terms.feed.ref[:] = (mesh.lengths[model.terms.feed.element], phi_ref)
+        for hooks in self.hooks:
+            hooks.rebuilt(model, mesh.lengths, phi_ref)
         return model
+
+    def _statics_loads(self, model: CableModel) -> np.ndarray | None:
+        """The constant loads of ``model``'s statics when a term changes them (None: the model's)."""
+        return next((f for f in (h.statics_loads(model) for h in self.hooks) if f is not None), None)
+
+    def _remodel(self, mesh: Mesh, phi_ref: float) -> None:
+        """Make ``mesh`` the simulation's, with its model (:meth:`_model_for`) and a new state."""
+        model = self._model_for(mesh, phi_ref)
+        self._use(mesh, model, genalpha.new_state(model))
 
     def _use(self, mesh: Mesh, model: CableModel, state: genalpha.IntegratorState) -> None:
         """Make ``mesh``, its ``model`` and ``state`` the simulation's, with a new workspace."""
         self._mesh, self.model, self.state = mesh, model, state
         if self._held_forces is not None:  # (statics of a later initialisation)
-            self._held_forces = held_load_forces(self.scene, model)
+            self._held_forces = self._statics_loads(model)
         self.workspace = genalpha.new_workspace(model)
         self._stepped = None
         self._snapshot_buffers = None
@@ -485,9 +471,11 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         return self._last_outputs
 
     def _output_row(self) -> np.ndarray:
-        row = self._output_array()[self.layout.index]
-        if self.model.terms.rigid_load.enabled:
-            row = np.concatenate([row, list(self._load_outputs().values())])
+        if not self._python_outputs:
+            return self._output_array()[self.layout.index]
+        row = np.empty(len(self.names))
+        row[self.layout.compiled] = self._output_array()[self.layout.index]
+        row[self.layout.python] = [value for hooks in self._python_outputs for value in hooks.values()]
         return row
 
     def _output_array(self) -> np.ndarray:
@@ -506,13 +494,13 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         FMU step) goes through the model's :class:`~towcable_fmu.ancf.stepper.Stepper`."""
         if isinstance(drive, TaylorDrive):
             return self._step_taylor(t_end, drive)
-        keep = self.viv is None
+        keep = not self._staggered
         rows = np.empty((1, len(OUTPUT_FIELDS))) if keep else _NO_ROWS
         while True:  # (a spool end's fed element is split or merged between steps)
             reached = advance_recording(self.model, self.options, self.state, self.workspace, np.array([t_end]),
                                         *drive, Recording(self.output_scene, _ALL_OUTPUTS if keep else _NO_OUTPUTS,
                                                           rows, False, False, t_end))
-            if reached == 1 or not self._follow_feed():
+            if reached == 1 or not self._after_event():
                 break
         self._stepped = (self._fingerprint(), rows[0]) if keep and reached == 1 else None
         return genalpha.OK if reached == 1 else genalpha.FAILED_MIN_STEP
@@ -523,7 +511,7 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         while True:  # (a spool end's fed element is split or merged between steps)
             stepper, rows, _ = self._current_stepper()
             reached = step_to(stepper, t_end, drive.t0, drive.ship, drive.setpoint[0], drive.setpoint[1])
-            if reached == 1 or not self._follow_feed():
+            if reached == 1 or not self._after_event():
                 break
         self._stepped = (self._fingerprint(), rows[0]) if reached == 1 else None
         return genalpha.OK if reached == 1 else genalpha.FAILED_MIN_STEP
@@ -554,25 +542,6 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         """What identifies the state a step reached: its time and the solver counters."""
         return float(self.state.clock[genalpha.CLOCK_TIME]), self.state.stats.tobytes()
 
-    def _load_outputs(self) -> dict[str, float]:
-        """Swing angle of the rigid load and the force the cable exerts on it."""
-        load_term, st = self.model.terms.rigid_load, self.state
-        i = load_term.index
-        p = i - 6
-        # the load's own equations summed over P and I: the link forces cancel, what remains
-        # is the cable's pull = sum of (mass matrix x acceleration) minus the load's weight
-        # (the load's mass m_L is the entry m_II of its mass matrix, W(138))
-        pull = ((load_term.mass[0] + load_term.mass[1]) * st.a[p:p + 3] + (load_term.mass[1] + load_term.mass[2]) * st.a[i:i + 3])
-        pull[2] += load_term.mass[2] * self.model.gravity
-        d = st.q[i:i + 3] - st.q[p:p + 3]
-        vp, vi = st.v[p:p + 3], st.v[i:i + 3]
-        kinetic = 0.5 * (load_term.mass[0] * vp @ vp + 2.0 * load_term.mass[1] * vp @ vi + load_term.mass[2] * vi @ vi)
-        length, rest = float(np.linalg.norm(d)), load_term.length
-        # the link force k (l - L)/L d of W(139) is central: its potential is a function of l alone
-        link = load_term.k / rest * ((length**3 - rest**3) / 3.0 - rest * (length**2 - rest**2) / 2.0)
-        return dict(zip(LOAD_OUTPUTS, (float(np.linalg.norm(pull)), float(np.arctan2(d[0], -d[2])),
-                                       float(kinetic + link))))
-
     def _counters(self) -> np.ndarray:
         return self.state.stats
 
@@ -585,14 +554,10 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         return self.state
 
     def _extra_state(self) -> dict[str, Any]:
-        feed = self.model.terms.feed
         return {"setpoint": list(self._setpoint), "payout_limit": self._payout_limit,
-                "mesh": None if not feed.enabled else {"lengths": self._mesh.lengths.tolist(),
-                                                       "segments": self._mesh.segment_of_element.tolist(),
-                                                       "phi_ref": float(feed.ref[1])},
                 "winch_control": self.compensation.get_state() if self._tension_control() else None,
                 "turbulence_t0": None if self.turbulence is None else self.turbulence.t0,
-                "viv": None if self.viv is None else self.viv.get_state()}
+                "terms": {hooks.name: hooks.save() for hooks in self._saving}}
 
     def set_state(self, data: Mapping[str, Any]) -> None:
         """Restore a state of :meth:`get_state` (see
@@ -600,7 +565,9 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         before a spool end's fed element was split or merged: the model of its mesh is
         rebuilt first (and put back if the state is refused)."""
         kept = (self._mesh, self.model, self.state, self.workspace)
-        self._load_mesh(data.get("mesh"))
+        saved = data.get("terms", {})
+        for hooks in self._saving:
+            hooks.adopt(saved.get(hooks.name))
         try:
             super().set_state(data)
         except SceneError:
@@ -608,23 +575,10 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
             self.workspace = kept[3]
             raise
 
-    def _load_mesh(self, saved: Mapping[str, Any] | None) -> None:
-        """Rebuild the model for the mesh of a saved state when it is not the current one."""
-        if saved is None or not self.model.terms.feed.enabled:
-            return
-        lengths = np.asarray(saved["lengths"], dtype=float)
-        segments = np.asarray(saved["segments"], dtype=np.int64)
-        phi_ref = float(saved["phi_ref"])
-        feed = self.model.terms.feed
-        if (lengths.shape == self._mesh.lengths.shape and np.array_equal(lengths, self._mesh.lengths)
-                and np.array_equal(segments, self._mesh.segment_of_element) and feed.ref[1] == phi_ref):
-            return
-        mesh = Mesh(lengths, segments, np.concatenate([[0.0], np.cumsum(lengths)]))
-        model = self._model_for(mesh, phi_ref)
-        self._use(mesh, model, genalpha.new_state(model))
-
     def _load_extra_state(self, data: Mapping[str, Any]) -> None:
-        self._load_mesh(data.get("mesh"))
+        saved = data.get("terms", {})
+        for hooks in self._saving:
+            hooks.restore(saved.get(hooks.name))
         t0 = data.get("turbulence_t0")
         if t0 is not None and (self.turbulence is None or self.turbulence.t0 != t0):
             self._start_turbulence(float(t0))
@@ -632,8 +586,6 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         self._payout_limit = data.get("payout_limit")
         if data.get("winch_control") is not None and self._tension_control():
             self.compensation.set_state(data["winch_control"])
-        if self.viv is not None and data.get("viv") is not None:
-            self.viv.set_state(data["viv"])
 
     def _restored(self) -> None:
         self._stepped = None
@@ -666,11 +618,12 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
 
         In the compiled recording loop, the integrator keeps its own steps and reads the
         samples from its interpolant (not with a set-point from measurements, which needs the
-        state at every sample); a rigid load's outputs and the wake coupling are recorded
+        state at every sample); a term's outputs computed in Python and the work of a
+        staggered term between steps (the wake coupling) are recorded
         in Python, one sample at a time.
         """
         feedback = self._feedback()
-        in_python = self.model.terms.rigid_load.enabled or self.viv is not None
+        in_python = bool(self._python_outputs or self._staggered)
         interpolate = not in_python and not feedback
         h = self.options.h_max
         if interpolate:
@@ -685,7 +638,7 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
                 reached += advance_recording(self.model, self.options, self.state, self.workspace, block[reached:],
                                              *drive, Recording(self.output_scene, self.layout.index, rows[reached:],
                                                                True, interpolate, t_land))
-                if reached == block.size or not self._follow_feed():
+                if reached == block.size or not self._after_event():
                     break
         else:
             reached = 0
@@ -706,12 +659,12 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         unstretched cable from its end to where it leaves the drum (None: no drum contact)."""
         if self._stored_length is not None:
             return self._stored_length
-        if not (self.output_scene.has_winch and self.model.terms.contact.enabled):
-            return None
-        ends = self.contact_state()["ends"]
-        e = int(ends[WINCH, 2])
-        wound = 0.0 if e < 0 else float(self.mesh.node_arc[e] + ends[WINCH, 3] * self.mesh.lengths[e])
-        return float(self._output_array()[_PAYOUT]) + wound
+        wound = self._answer("wound_length")()
+        return None if wound is None else self._payout() + wound
+
+    def _payout(self) -> float:
+        """``winch.payout`` of the current state [m]."""
+        return float(self._output_array()[_PAYOUT])
 
     def _payout_error(self, t: float, payout: float) -> SolverError:
         return SolverError(f"winch.payout = {payout:.4g} m at t = {t:.6g} s exceeds the {self._payout_limit:.4g} m "

@@ -1,22 +1,20 @@
 """What an ANCF simulation tells of its current state beyond the outputs: reactions,
-node positions, the centreline, the tension profile, a rigid towed body's state (and
-setting its motion), the contact along drum and sheave (a part of
+node positions, the centreline, the tension profile; and, answered by the force term that
+models them (its hooks, :mod:`towcable_fmu.ancf.forces.hooks`), a rigid towed body's
+state (and setting its motion) and the contact along drum and sheave (a part of
 :class:`~towcable_fmu.ancf.simulation.Simulation`).
 
 The mixin uses the simulation's ``mesh``, ``model``, ``state``, ``workspace``, ``time``
-and its ``set_coordinates``.
+and ``hooks``.
 """
 
 from __future__ import annotations
 
-from typing import Iterable
+from typing import Any, Callable, Iterable
 
 import numpy as np
 
-from ..hydro.rigid_body import angular_kinematics, tow_point_state
 from . import element, measures
-from .forces.contact import elements
-from .forces.contact_quadrature import new_summary, surface_summary
 from .system import residual
 
 #: Normalised element positions at which the tension profile is sampled.
@@ -74,90 +72,42 @@ class StateQueries:
         return arc.ravel(), t.ravel()
 
     def body_state(self) -> dict[str, np.ndarray]:
-        """State of a rigid towed body (as :meth:`NodalSimulation.body_state
-        <towcable_fmu.nodal.simulation.NodalSimulation.body_state>`).
-
-        Returns
-        -------
-        dict
-            ``position`` (CG) [m] and ``velocity`` [m/s] (inertial), ``attitude`` (roll,
-            pitch, yaw) [rad], ``rotation`` R (body -> inertial), ``angular_velocity``
-            [rad/s] (body axes), ``angular_momentum`` R J w [kg m^2/s] (inertial axes, about
-            the CG; J without added inertia), ``tow_point`` [m] and ``cable_force`` [N], the
-            force of the cable on the body (the force in the link from the last node to the
-            tow point), and ``link_stretch`` [m], the length of that link.
+        """State of a rigid towed body: see :meth:`towcable_fmu.ancf.forces.rigid_link.Hooks.body_state`.
 
         Raises
         ------
         ValueError
             If the scene has no rigid towed body.
         """
-        link, st = self.model.terms.rigid_link, self.state
-        if not link.enabled:
-            raise ValueError("the scene has no rigid towed body (towbody.model = 'rigid')")
-        i = link.index
-        p = i - 6
-        rot, _, w, _ = angular_kinematics(st.q[i:i + 6], st.v[i:i + 6], st.a[i:i + 6])
-        xt, vt, at = np.empty(3), np.empty(3), np.empty(3)
-        tow_point_state(link.body, st.q[i:i + 6], st.v[i:i + 6], st.a[i:i + 6], xt, vt, at)
-        d = st.q[p:p + 3] - xt
-        force = link.k * d + link.c * (st.v[p:p + 3] - vt)
-        return {"position": st.q[i:i + 3].copy(), "velocity": st.v[i:i + 3].copy(),
-                "attitude": st.q[i + 3:i + 6].copy(), "rotation": rot, "angular_velocity": w,
-                "angular_momentum": rot @ (link.body.inertia @ w), "tow_point": xt, "cable_force": force,
-                "link_stretch": float(np.linalg.norm(d))}
+        return self._answer("body_state")()
 
     def set_body_motion(self, velocity: Iterable[float] | None = None,
                         angular_velocity: Iterable[float] | None = None) -> dict[str, float]:
-        """Give an initialised rigid towed body a CG velocity [m/s] (inertial) and an
-        angular velocity [rad/s] (body axes), then make the accelerations consistent.
-        The cable's last node takes the new velocity of the tow point (the link is not
-        set moving); the other nodes keep theirs.
+        """Give an initialised rigid towed body a CG velocity [m/s] (inertial) and an angular
+        velocity [rad/s] (body axes): see :meth:`towcable_fmu.ancf.forces.rigid_link.Hooks.set_body_motion`.
 
         Returns
         -------
         dict
             Outputs in the new state.
+        """
+        return self._answer("set_body_motion")(velocity, angular_velocity)
+
+    def contact_state(self) -> dict[str, np.ndarray]:
+        """Contact at the current time: totals per surface and the force distribution; see
+        :meth:`towcable_fmu.ancf.forces.contact.Hooks.contact_state`."""
+        return self._answer("contact_state")()
+
+    def _answer(self, query: str) -> Callable[..., Any]:
+        """The method ``query`` of the first term's hooks that define it.
 
         Raises
         ------
         ValueError
-            Without a rigid body, or before :meth:`initialize`.
-        SolverError
-            If the accelerations are not finite.
+            If no term answers it.
         """
-        link, st = self.model.terms.rigid_link, self.state
-        if not link.enabled or not self._initialized:
-            raise ValueError("set_body_motion needs an initialised scene with a rigid towed body")
-        i = link.index
-        v = st.v.copy()
-        if velocity is not None:
-            v[i:i + 3] = np.asarray(velocity, dtype=float)
-        if angular_velocity is not None:
-            _, g, _, _ = angular_kinematics(st.q[i:i + 6], v[i:i + 6], st.a[i:i + 6])
-            v[i + 3:i + 6] = np.linalg.solve(g, np.asarray(angular_velocity, dtype=float))
-        xt, vt, at = np.empty(3), np.empty(3), np.empty(3)
-        tow_point_state(link.body, st.q[i:i + 6], v[i:i + 6], st.a[i:i + 6], xt, vt, at)
-        v[i - 6:i - 3] = vt
-        return self.set_coordinates(st.q.copy(), v)
-
-    def contact_state(self) -> dict[str, np.ndarray]:
-        """Contact at the current time: totals per surface and the force distribution.
-
-        Returns
-        -------
-        dict
-            ``force`` (2, 3) total contact force on the cable of the winch (row 0) and the
-            sheave (row 1) [N]; ``span`` (2, 2) smallest and largest angle of a touching
-            point, measured about the surface axis from the ship's +Z towards +X [rad];
-            ``ends`` (2, 4) element and position of the first and of the last touching point
-            along the cable (element -1: no contact); ``lowest`` (2,) lowest height of the cable above its seated position over
-            the upper half of each surface [m]; ``distribution`` (k, 3) rows (surface,
-            angle [rad], force per unit length [N/m]).
-        """
-        m = self.model
-        out = new_summary(4 * int(m.el_npts.sum()))
-        rows = surface_summary(m.terms.contact, elements(m), self.state.q, self.state.v,
-                               self.workspace.ship, out)
-        return {"force": out.force, "span": out.span, "ends": out.ends, "lowest": out.lowest, "energy": out.energy,
-                "distribution": out.dist[:rows]}
+        for hooks in self.hooks:
+            method = getattr(hooks, query, None)
+            if method is not None:
+                return method
+        raise ValueError(f"no force term of the ANCF cable answers {query}")

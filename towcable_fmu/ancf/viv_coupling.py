@@ -96,7 +96,7 @@ class WakeCoupling:
         """Restore :meth:`get_state` data."""
         w = np.asarray(data["w"], dtype=float)
         if w.shape != self.w.shape:
-            raise SceneError("state.viv.w", f"{w.size} values", f"{self.w.size} (one per wake node)")
+            raise SceneError("state.terms.wake.w", f"{w.size} values", f"{self.w.size} (one per wake node)")
         self.w[:] = w
         self.wd[:] = np.asarray(data["wd"], dtype=float)
         self._load[:] = np.asarray(data["load"], dtype=float)

@@ -29,7 +29,7 @@ import numpy as np
 import scipy.linalg
 from scipy import signal
 
-from towcable_fmu.ancf.mesh import held_load_forces
+from towcable_fmu.ancf.forces.rigid_load import held_load_forces
 from towcable_fmu.ancf.system import iteration_matrix
 from towcable_fmu.ancf.simulation import Simulation
 

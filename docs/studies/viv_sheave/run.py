@@ -91,9 +91,10 @@ def main() -> None:
         z = record(sim, mid, duration)
         amp, omega = amplitude_frequency(z[-int(5.0 / H):], H)
         amp_early, _ = amplitude_frequency(z[-int(10.0 / H):-int(5.0 / H)], H)
+        wake = next(h for h in sim.hooks if h.name == "wake").coupling  # the wake oscillators
         row = {"case": case, "scene": scene, "span": span, "tension": tension, "omega_a24": omega_a24(span, tension),
-               "omega_table": table_omega, "speed_table": table_speed, "speed": sim.viv.speed,
-               "omega_st": sim.viv.omega, "omega_pluck": omega_pluck, "omega_response": omega,
+               "omega_table": table_omega, "speed_table": table_speed, "speed": wake.speed,
+               "omega_st": wake.omega, "omega_pluck": omega_pluck, "omega_response": omega,
                "amplitude": amp, "amplitude_over_d": amp / D, "amplitude_previous_5s": amp_early}
         rows.append(row)
         print(json.dumps(row))

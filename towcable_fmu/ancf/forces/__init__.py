@@ -1,16 +1,18 @@
 """The force terms of the ANCF cable: every force beyond the cable's own structure.
 
 Each term is one module with the contract of :mod:`.term` (``NAME``, ``TABLES``, ``Data``,
-``build`` and the kernels ``residual`` and ``tangent``); :data:`TERMS` lists them, and
-:func:`add_residuals` and :func:`add_tangents` call their kernels in that order. To add a
-term: write its module, add it to both places here, give it a table in the scene schema
-and a test (docs/extending.md walks through an example; tests/test_force_terms.py checks
-that every term of :data:`TERMS` is called, in order).
+``build`` and the kernels ``residual`` and ``tangent``) and, if it has outputs, state or
+acts between steps, its ``Hooks`` (:mod:`.hooks`); :data:`TERMS` lists them,
+:func:`add_residuals` and :func:`add_tangents` call their kernels in that order and
+:func:`build_hooks` builds their hooks. To add a term: write its module, add it to
+:data:`TERMS` and to both functions here, give it a table in the scene schema and a test
+(docs/extending.md walks through an example; tests/test_force_terms.py checks that every
+term of :data:`TERMS` is called, in order).
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -18,6 +20,7 @@ from ...kernel_cache import njit
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
 from . import contact, feed, hydrodynamics, rigid_link, rigid_load, towbody, wake
+from .hooks import TermHooks
 
 #: The term modules, in the order their residuals and tangents are added.
 TERMS = (feed, rigid_load, rigid_link, contact, hydrodynamics, towbody, wake)
@@ -32,6 +35,12 @@ ForceTerms = NamedTuple("ForceTerms", [(term.NAME, term.Data) for term in TERMS]
 def build_terms(scene: Scene, mesh: Mesh, model: CableModel) -> ForceTerms:
     """Every term's data for ``scene`` (``model``: the cable's own model, no terms yet)."""
     return ForceTerms(*(term.build(scene, mesh, model) for term in TERMS))
+
+
+def build_hooks(scene: Scene, sim: Any) -> tuple[TermHooks, ...]:
+    """Every term's hooks in a simulation of ``scene`` (a term without ``Hooks`` gets
+    :class:`~.hooks.TermHooks`, which does nothing), in the order of :data:`TERMS`."""
+    return tuple(getattr(term, "Hooks", TermHooks)(term.NAME, scene, sim) for term in TERMS)
 
 
 # The calls are written out, one per term: numba then inlines each term's kernels into the

@@ -7,13 +7,17 @@ a grooved sheave's two walls and rim), integrated along each element
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from ...kernel_cache import njit
 from . import contact_quadrature as cable_contact
+from .contact_quadrature import new_summary, surface_summary
 from ...contact.surfaces import CYLINDER, RIM, SHEAVE, WALL_MINUS, WALL_PLUS, WINCH, ContactModel, no_contact
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
+from .hooks import TermHooks
 from .term import add_element_block
 
 NAME = "contact"
@@ -85,3 +89,48 @@ def tangent(term: ContactModel, model: CableModel, motion: Motion, ca: float, cv
     for e in range(ne):
         if touched[e]:
             add_element_block(model, e, blocks[e], ab)
+
+
+class Hooks(TermHooks):
+    """The contact outputs (in the compiled output kernel), the contact state (the
+    simulation's ``contact_state``) and the cable wound on the drum."""
+
+    OUTPUTS = ("contact.winch_force", "contact.sheave_force", "energy.contact", "tension.winch", "sheave_angle",
+               "tension.sheave", "contact.wrap_angle", "contact.detached")
+
+    def __init__(self, name: str, scene: Scene, sim: Any) -> None:
+        super().__init__(name, scene, sim)
+        self._winch = scene.winch is not None and self.term.enabled
+        if self.term.enabled:
+            winch, sheave = scene.winch is not None, scene.sheave is not None
+            self.outputs = (self.OUTPUTS[:3] + (self.OUTPUTS[3:4] if winch else ())
+                            + (self.OUTPUTS[4:5] if winch or sheave else ()) + (self.OUTPUTS[5:] if sheave else ()))
+
+    def wound_length(self) -> float | None:
+        """The unstretched cable from its end to where it leaves the drum [m] (None: no drum contact)."""
+        if not self._winch:
+            return None
+        ends = self.contact_state()["ends"]
+        e = int(ends[WINCH, 2])
+        mesh = self.sim.mesh
+        return 0.0 if e < 0 else float(mesh.node_arc[e] + ends[WINCH, 3] * mesh.lengths[e])
+
+    def contact_state(self) -> dict[str, np.ndarray]:
+        """Contact at the current time: totals per surface and the force distribution.
+
+        Returns
+        -------
+        dict
+            ``force`` (2, 3) total contact force on the cable of the winch (row 0) and the
+            sheave (row 1) [N]; ``span`` (2, 2) smallest and largest angle of a touching
+            point, measured about the surface axis from the ship's +Z towards +X [rad];
+            ``ends`` (2, 4) element and position of the first and of the last touching point
+            along the cable (element -1: no contact); ``lowest`` (2,) lowest height of the cable above its seated position over
+            the upper half of each surface [m]; ``distribution`` (k, 3) rows (surface,
+            angle [rad], force per unit length [N/m]).
+        """
+        m, st = self.sim.model, self.sim.state
+        out = new_summary(4 * int(m.el_npts.sum()))
+        rows = surface_summary(self.term, elements(m), st.q, st.v, self.sim.workspace.ship, out)
+        return {"force": out.force, "span": out.span, "ends": out.ends, "lowest": out.lowest, "energy": out.energy,
+                "distribution": out.dist[:rows]}

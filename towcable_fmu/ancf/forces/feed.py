@@ -9,15 +9,18 @@ and the lengths; this term applies them.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
+from ...errors import SceneError, SolverError
 from ...kernel_cache import njit
 from ...scene.model import Scene
 from .. import element
-from ..feed import boundary_above, section_boundaries
+from ..feed import (BOUNDARY_BAND, MERGE_FACTOR, SPLIT_FACTOR, boundary_above, feed_event, fed_length,
+                    material_rates, section_boundaries)
 from ..model import CableModel, Mesh, Motion
+from .hooks import TermHooks
 from .term import add_element_block
 
 NAME = "feed"
@@ -103,3 +106,152 @@ def tangent(term: Data, model: CableModel, motion: Motion, ca: float, cv: float,
                 for c in range(3):
                     block[3 * i + c, 3 * j + c] = val
         add_element_block(model, e, block, ab)
+
+
+class Hooks(TermHooks):
+    """A spool end's fed element in a run: its length follows the winch, the mesh it
+    reached is part of the state, and it is split or merged when it leaves its band
+    (:meth:`handle_event`); the payout it starts from is checked."""
+
+    OUTPUTS = ("winch.deployed",)
+
+    def __init__(self, name: str, scene: Scene, sim: Any) -> None:
+        super().__init__(name, scene, sim)
+        enabled = bool(self.term.enabled)
+        self.MOVES_MESH = enabled
+        self.outputs = self.OUTPUTS if enabled else ()
+        #: the scene's cable sections (their lengths [m]) and the gear's segment count
+        self._segments = scene.cable.segments
+        self._gear = scene.winch.gear_segments if enabled else 0
+        #: the scene's mesh and its winch rotation [rad] (a run starts from them)
+        self._scene_mesh = sim._mesh
+        self._phi_nom = float(scene.winch.phi_nom) if enabled else 0.0
+
+    def reset(self) -> None:
+        """The winch remeshed the cable in an earlier run: start from the scene's mesh (a
+        split asked for by the caller, without a spool end, stays)."""
+        if self.term.enabled and self.sim._mesh is not self._scene_mesh:
+            self.sim._remodel(self._scene_mesh, self._phi_nom)
+
+    def start(self, phi: float) -> None:
+        """A spool end starts on the scene's mesh: its fed element must lie inside the band
+        where it is neither split nor merged.
+
+        Raises
+        ------
+        SceneError
+            Naming the initial winch rotation and the payouts the scene can start from.
+        """
+        feed = self.term
+        if not feed.enabled:
+            return
+        shortest, longest = MERGE_FACTOR * feed.length_nom, SPLIT_FACTOR * feed.length_nom
+        if shortest < fed_length.py_func(feed, phi) < longest:  # (in Python: no kernel to compile for it)
+            return
+        payout = (shortest - feed.ref[0], longest - feed.ref[0])   # from phi_ref = phi_nom
+        raise SceneError("winch.phi_sp (initial)", phi,
+                         f"a rotation with a payout in ({payout[0]:.6g}, {payout[1]:.6g}) m, "
+                         f"phi in ({feed.ref[1] - payout[1] / feed.radius:.6g}, "
+                         f"{feed.ref[1] - payout[0] / feed.radius:.6g}) rad: a spool end starts from the scene's "
+                         "deployed length (its fed element between "
+                         f"{MERGE_FACTOR:g} and {SPLIT_FACTOR:g} nominal lengths); give the scene that length instead")
+
+    def rebuilt(self, model: Any, lengths: np.ndarray, phi_ref: float) -> None:
+        feed = getattr(model.terms, self.name)
+        feed.ref[:] = (lengths[feed.element], phi_ref)
+
+    def save(self) -> Any:
+        """The mesh the run reached (its lengths and segments) and the fed element's reference rotation."""
+        feed = self.term
+        if not feed.enabled:
+            return None
+        mesh = self.sim._mesh
+        return {"lengths": mesh.lengths.tolist(), "segments": mesh.segment_of_element.tolist(),
+                "phi_ref": float(feed.ref[1])}
+
+    def adopt(self, saved: Any) -> None:
+        """Rebuild the model for the mesh of a saved state when it is not the current one."""
+        feed = self.term
+        if saved is None or not feed.enabled:
+            return
+        lengths = np.asarray(saved["lengths"], dtype=float)
+        segments = np.asarray(saved["segments"], dtype=np.int64)
+        phi_ref = float(saved["phi_ref"])
+        mesh = self.sim._mesh
+        if (lengths.shape == mesh.lengths.shape and np.array_equal(lengths, mesh.lengths)
+                and np.array_equal(segments, mesh.segment_of_element) and feed.ref[1] == phi_ref):
+            return
+        self.sim._remodel(Mesh(lengths, segments, np.concatenate([[0.0], np.cumsum(lengths)])), phi_ref)
+
+    def restore(self, saved: Any) -> None:
+        self.adopt(saved)
+
+    def new_node_rates(self, element: int, xi: float) -> tuple[np.ndarray, np.ndarray] | None:
+        """The fed element gives a new node the material's velocity and acceleration there
+        (:func:`~towcable_fmu.ancf.feed.material_rates`): the node is material from then on."""
+        feed, st = self.term, self.sim.state
+        if not feed.enabled or element != feed.element:
+            return None
+        u, du = -feed.radius * st.phi[1], -feed.radius * st.phi[2]
+        span = slice(6 * element, 6 * element + 12)
+        return material_rates(st.q[span], st.v[span], st.a[span], self.sim.mesh.lengths[element], xi, u, du)
+
+    def handle_event(self) -> bool:
+        """After a step reported a feed event, remesh the fed element: split it where the
+        next section's cable came in (``BOUNDARY_BAND`` nominal lengths past a section
+        boundary: the downstream piece keeps its section, the fed element takes the new
+        one); split it when it has grown to SPLIT_FACTOR nominal lengths (one nominal
+        element downstream, the rest upstream, where the cable comes in); or merge it with
+        the next when it has shrunk to MERGE_FACTOR (with the next section's element when
+        its own section is all hauled in: the merged element takes the next section, and
+        the last piece of the fed one, at most MERGE_FACTOR of a nominal length, with it).
+        False if there is no event (the step failed).
+
+        Raises
+        ------
+        SolverError
+            If the winch hauls in the whole cable, or a section whose cable differs from the
+            gear's (it cannot pass over drum and sheave).
+        """
+        sim = self.sim
+        if not self.term.enabled or not feed_event(sim.model):
+            return False
+        feed = self.term
+        fed, length, nominal = feed.element, float(sim.model.el_len[feed.element]), feed.length_nom
+        mesh = sim.mesh
+        if length >= feed.boundary + BOUNDARY_BAND * nominal:
+            boundaries = section_boundaries(np.array([seg.length for seg in self._segments]), self._gear)
+            upper = int(np.argmin(np.abs(boundaries - (np.sum(mesh.lengths[fed + 1:]) + feed.boundary))))
+            # the piece downstream, up to the boundary, keeps its section
+            sim._split(fed, (length - feed.boundary) / length, self._gear + upper)
+        elif length >= SPLIT_FACTOR * nominal:
+            sim._split(fed, (length - nominal) / length)
+        elif mesh.n_elements > fed + 1 and mesh.segment_of_element[fed + 1] == mesh.segment_of_element[fed]:
+            sim._merge(fed)
+        elif mesh.n_elements > fed + 1:
+            self._check_passes_the_gear(int(mesh.segment_of_element[fed + 1]))
+            sim._merge(fed, across=True)
+        else:
+            raise SolverError(f"winch.payout = {sim._payout():.6g} m at t = {sim.time:.6g} s "
+                              f"hauls in the whole cable: the deployed length cannot go below "
+                              f"{float(mesh.node_arc[fed]) + MERGE_FACTOR * nominal:.6g} m (the gear and "
+                              f"{MERGE_FACTOR:g} of the last element); limit the winch's set-point")
+        return True
+
+    def _check_passes_the_gear(self, segment: int) -> None:
+        """A section hauled in passes over drum and sheave on the gear's mesh: its cable must
+        be the gear's.
+
+        Raises
+        ------
+        SolverError
+            Naming the first property that differs.
+        """
+        segments, gear = self._segments, self._gear
+        name = segments[segment].cable_difference(segments[gear])
+        if name is not None:
+            raise SolverError(f"winch.payout = {self.sim._payout():.6g} m at t = {self.sim.time:.6g} s "
+                              f"hauls cable.segments[{segment}] onto the drum, but its {name} = "
+                              f"{getattr(segments[segment], name)!r} differs from the gear's "
+                              f"{getattr(segments[gear], name)!r}: it cannot pass over drum and sheave on "
+                              "their mesh; limit the winch's set-point")

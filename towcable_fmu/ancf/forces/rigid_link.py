@@ -8,14 +8,17 @@ coordinates free: the joint is spherical).
 
 from __future__ import annotations
 
-from typing import NamedTuple
+import math
+from typing import Any, Iterable, NamedTuple
 
 import numpy as np
 
 from ...kernel_cache import njit
-from ...hydro.rigid_body import RigidBodyModel, attitude_ok, body_residual, build_rigid_body, tow_point_state
+from ...hydro.rigid_body import (RigidBodyModel, angular_kinematics, attitude_ok, body_residual, build_rigid_body,
+                                 tow_point_state)
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
+from .hooks import TermHooks
 from .term import add_block
 
 NAME = "rigid_link"
@@ -179,3 +182,91 @@ def tangent(term: Data, model: CableModel, motion: Motion, ca: float, cv: float,
     """Add :func:`block` to the band storage ``ab``."""
     add_block(model, _coords(term), block(term, model, motion, ca, cv, cq), ab)
 
+
+
+class Hooks(TermHooks):
+    """The body's outputs (in the compiled output kernel), its state and motion (the
+    simulation's ``body_state`` and ``set_body_motion``), a hint when a step fails."""
+
+    OUTPUTS = ("tension.towbody", "towbody.x", "towbody.y", "towbody.z", "towbody.vx", "towbody.vy", "towbody.vz",
+               "towbody.roll", "towbody.pitch", "towbody.yaw")
+
+    def __init__(self, name: str, scene: Scene, sim: Any) -> None:
+        super().__init__(name, scene, sim)
+        self.outputs = self.OUTPUTS if self.term.enabled else ()
+
+    def failure_hint(self) -> str:
+        """The body's pitch, when near the singularity of its Euler angles."""
+        if not self.term.enabled:
+            return ""
+        pitch = float(self.sim.state.q[self.term.index + 4])
+        return (f"; the rigid body's pitch is {pitch:.4g} rad, its Euler angles are singular at +-pi/2"
+                if abs(math.cos(pitch)) < 0.1 else "")
+
+    def body_state(self) -> dict[str, np.ndarray]:
+        """State of a rigid towed body (as :meth:`NodalSimulation.body_state
+        <towcable_fmu.nodal.simulation.NodalSimulation.body_state>`).
+
+        Returns
+        -------
+        dict
+            ``position`` (CG) [m] and ``velocity`` [m/s] (inertial), ``attitude`` (roll,
+            pitch, yaw) [rad], ``rotation`` R (body -> inertial), ``angular_velocity``
+            [rad/s] (body axes), ``angular_momentum`` R J w [kg m^2/s] (inertial axes, about
+            the CG; J without added inertia), ``tow_point`` [m] and ``cable_force`` [N], the
+            force of the cable on the body (the force in the link from the last node to the
+            tow point), and ``link_stretch`` [m], the length of that link.
+
+        Raises
+        ------
+        ValueError
+            If the scene has no rigid towed body.
+        """
+        link, st = self.term, self.sim.state
+        if not link.enabled:
+            raise ValueError("the scene has no rigid towed body (towbody.model = 'rigid')")
+        i = link.index
+        p = i - 6
+        rot, _, w, _ = angular_kinematics(st.q[i:i + 6], st.v[i:i + 6], st.a[i:i + 6])
+        xt, vt, at = np.empty(3), np.empty(3), np.empty(3)
+        tow_point_state(link.body, st.q[i:i + 6], st.v[i:i + 6], st.a[i:i + 6], xt, vt, at)
+        d = st.q[p:p + 3] - xt
+        force = link.k * d + link.c * (st.v[p:p + 3] - vt)
+        return {"position": st.q[i:i + 3].copy(), "velocity": st.v[i:i + 3].copy(),
+                "attitude": st.q[i + 3:i + 6].copy(), "rotation": rot, "angular_velocity": w,
+                "angular_momentum": rot @ (link.body.inertia @ w), "tow_point": xt, "cable_force": force,
+                "link_stretch": float(np.linalg.norm(d))}
+
+    def set_body_motion(self, velocity: Iterable[float] | None = None,
+                        angular_velocity: Iterable[float] | None = None) -> dict[str, float]:
+        """Give an initialised rigid towed body a CG velocity [m/s] (inertial) and an
+        angular velocity [rad/s] (body axes), then make the accelerations consistent.
+        The cable's last node takes the new velocity of the tow point (the link is not
+        set moving); the other nodes keep theirs.
+
+        Returns
+        -------
+        dict
+            Outputs in the new state.
+
+        Raises
+        ------
+        ValueError
+            Without a rigid body, or before :meth:`initialize`.
+        SolverError
+            If the accelerations are not finite.
+        """
+        link, st = self.term, self.sim.state
+        if not link.enabled or not self.sim._initialized:
+            raise ValueError("set_body_motion needs an initialised scene with a rigid towed body")
+        i = link.index
+        v = st.v.copy()
+        if velocity is not None:
+            v[i:i + 3] = np.asarray(velocity, dtype=float)
+        if angular_velocity is not None:
+            _, g, _, _ = angular_kinematics(st.q[i:i + 6], v[i:i + 6], st.a[i:i + 6])
+            v[i + 3:i + 6] = np.linalg.solve(g, np.asarray(angular_velocity, dtype=float))
+        xt, vt, at = np.empty(3), np.empty(3), np.empty(3)
+        tow_point_state(link.body, st.q[i:i + 6], v[i:i + 6], st.a[i:i + 6], xt, vt, at)
+        v[i - 6:i - 3] = vt
+        return self.sim.set_coordinates(st.q.copy(), v)

@@ -23,7 +23,8 @@ A force term is one module of this package with
 Both are called only when ``term.enabled``, by :func:`towcable_fmu.ancf.forces.add_residuals`
 and :func:`~towcable_fmu.ancf.forces.add_tangents`, which the assembly
 (:mod:`towcable_fmu.ancf.system`) calls: the assembly names no term, and a term costs a
-flag test in a scene that lacks it.
+flag test in a scene that lacks it. What a term adds to a run beyond these kernels (outputs,
+a state of its own, work between steps) is its ``Hooks`` (:mod:`.hooks`).
 """
 
 from __future__ import annotations

@@ -6,6 +6,8 @@ at the last node (the body's mass is in the node's lumped mass).
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from ...kernel_cache import njit
@@ -14,6 +16,7 @@ from ...hydro.scene_data import build_body
 from ...hydro.towbody import BodyHydro
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
+from .hooks import TermHooks
 from .term import add_block
 
 NAME = "towbody"
@@ -46,3 +49,15 @@ def tangent(term: BodyHydro, model: CableModel, motion: Motion, ca: float, cv: f
     if body_hydro.add_jacobian(model.water, term, motion.q, motion.v, motion.t, ca, cv, block):
         add_block(model, np.arange(term.index, term.index + 3), block, ab)
 
+
+
+class Hooks(TermHooks):
+    """The lumped body's outputs (in the compiled output kernel; also without water)."""
+
+    OUTPUTS = ("tension.towbody", "towbody.x", "towbody.y", "towbody.z", "towbody.vx", "towbody.vy", "towbody.vz")
+
+    def __init__(self, name: str, scene: Scene, sim: Any) -> None:
+        super().__init__(name, scene, sim)
+        if scene.towbody is not None and scene.towbody.model != "rigid":
+            self.outputs = self.OUTPUTS
+            self.output_scene = {"body_mass": float(scene.towbody.mass)}
