@@ -20,6 +20,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 
 #: The files the guide (docs/extending.md) lists for a term with an output and a state of
@@ -193,6 +195,9 @@ def _add_the_term(root: Path) -> None:
                         encoding="utf-8")
 
 
+# slow: the copy's kernels differ from the installed ones (a new term), so its run compiles
+# every ANCF kernel afresh (3-12 min on two cores)
+@pytest.mark.slow
 def test_a_throw_away_term_needs_only_the_files_the_guide_lists(tmp_path):
     guide = (ROOT / "docs/extending.md").read_text(encoding="utf-8")
     for name in ("ancf/forces/__init__.py", "scene/model.py", "contract.toml"):
