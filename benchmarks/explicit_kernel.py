@@ -162,6 +162,7 @@ def main() -> None:
         print(json.dumps(kernel_cost(f, n, h)))
         return
     comparison = before_after(args.baseline) if args.baseline else None
+    load = os.getloadavg()[0]
     rows = []
     for label, f, n, h in CASES:
         r = kernel_cost(f, n, h)
@@ -171,8 +172,8 @@ def main() -> None:
     split = split_rows()
     md = moordyn_cost()
     lines = ["# The explicit kernel: cost per node and step\n", machine_header(),
-             "- the machine was shared with other jobs (2 cores, up to 4 agents): wall times are noisy and high; "
-             "CPU times of this process are the steadier figure.\n\n", __doc__.split("\n\n")[1].replace("\n", " "),
+             f"- load average at the start: {load:.1f} on 2 cores (above 2 the machine is shared with other jobs: wall "
+             "times are then noisy and high, CPU times of this process the steadier figure)\n\n", __doc__.split("\n\n")[1].replace("\n", " "),
              "\n\n", markdown_table(["case", "elements", "step [ms]", "steps", "kernel CPU [ns/node/step]",
                                      "kernel wall", "whole run CPU", "whole run wall", "speed [x real time]"], rows)]
     lines += [f"\nThe kernel's CPU time per step [ns] at {SPLIT_STEP * 1e3:g} ms, 1.27 Hz, split by a least-squares "
