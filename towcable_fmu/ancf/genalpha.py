@@ -339,7 +339,7 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
     bp = h * h * beta * scale
     gp = h * gamma * scale
     n = model.free_dofs.shape[0]
-    predict = _predicting(st, h)
+    predict = not opt.adaptive and _predicting(st, h)
     for i in range(n):
         k = model.free_dofs[i]
         if not predict:  # a_{n+1} = a_n
