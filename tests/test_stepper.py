@@ -52,3 +52,20 @@ def test_the_rollback_point_holds_every_field_of_the_state():
     sim._restore(saved)
     for name, a, b in zip(genalpha.IntegratorState._fields, sim.state, before):
         np.testing.assert_array_equal(a, b, err_msg=name)
+
+
+def test_the_predictor_extrapolates_only_in_steps_shorter_than_the_nominal_one():
+    """Fixed steps: a step that ends at the caller's time before the nominal step does
+    (a co-simulation's communication step), after two steps of its size; not at the run's
+    own step, not after steps of another size, not in an adaptive run."""
+    sim = Simulation.from_scene("full_scale")  # fixed steps of 0.05 s
+    opt, st = sim.options, sim.state
+    st.clock[genalpha.CLOCK_STEP] = 0.05
+    st.h_hist[:] = 0.01
+    assert genalpha._predicting(opt, st, 0.01)
+    assert not genalpha._predicting(opt._replace(adaptive=True), st, 0.01)
+    st.h_hist[:] = (0.01, 0.02)
+    assert not genalpha._predicting(opt, st, 0.01)
+    st.h_hist[:] = 0.05
+    assert not genalpha._predicting(opt, st, 0.05)
+

@@ -36,8 +36,11 @@ taut or slack is taken again, shortened to end just past that instant
 Predictor: ``a_{n+1} = a_n + r (a_n - a_{n-1})`` per coordinate, with the ratio
 ``r = (a_n - a_{n-1}) / (a_{n-1} - a_{n-2})`` of the last two changes clipped to [-1, 0]:
 a mode the step does not resolve alternates, damped by about ``-rho_inf`` a step, and is
-followed; a smooth trend (r > 0) is not extrapolated. Used after two accepted steps of
-the same size (the history ``a_hist``, ``h_hist`` is part of the state).
+followed; a smooth trend (r > 0) is not extrapolated. Used in fixed-step runs where a step
+is shorter than the nominal one because the caller's interval ends sooner (a co-simulation's
+communication step), after two accepted steps of the same size (the history ``a_hist``,
+``h_hist`` is part of the state). At a run's own step it does not pay: it moved Newton's
+contraction estimate and cost factorisations and cut steps (``docs/design.md``).
 
 Convergence test (Hairer & Wanner): the estimated remaining error
 ``theta/(1-theta) * |dq|`` is below ``newton_tol``, with the contraction rate theta of
@@ -323,10 +326,13 @@ def _winch_step(opt, st, h, sp, sp_rate, am, af, gamma, beta):
 
 
 @njit(cache=True, inline="always")
-def _predicting(st, h):
-    """True when the last two accepted steps had the size h [s] (to 1 %): the predictor
-    extrapolates the accelerations from them (else a_{n+1} = a_n)."""
-    return abs(st.h_hist[0] - h) <= 0.01 * h and abs(st.h_hist[1] - h) <= 0.01 * h
+def _predicting(opt, st, h):
+    """True when the predictor extrapolates the accelerations into a step of size h [s]
+    (else a_{n+1} = a_n): in a fixed-step run, a step shorter than the current nominal one
+    (it ends at the caller's time, a co-simulation's communication step), after two accepted
+    steps of the size h (to 1 %)."""
+    return (not opt.adaptive and h < 0.99 * st.clock[CLOCK_STEP]
+            and abs(st.h_hist[0] - h) <= 0.01 * h and abs(st.h_hist[1] - h) <= 0.01 * h)
 
 
 @njit(cache=True, inline="always")
@@ -339,7 +345,7 @@ def _try_step(model, opt, st, ws, h, drive_t, drive_x, am, af, gamma, beta):
     bp = h * h * beta * scale
     gp = h * gamma * scale
     n = model.free_dofs.shape[0]
-    predict = not opt.adaptive and _predicting(st, h)
+    predict = _predicting(opt, st, h)
     for i in range(n):
         k = model.free_dofs[i]
         if not predict:  # a_{n+1} = a_n
