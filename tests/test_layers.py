@@ -209,15 +209,33 @@ BELOW_THE_SCENE = ("ship_motion", "controllers", "towcable_fmu.fmi", "towcable_f
 def test_nothing_below_the_scene_package_reaches_it():
     """Not even through another module: the ship and controller slaves run without it."""
     graph = import_graph()
-
-    def reached(module: str) -> set[str]:
-        seen, todo = set(), [module]
-        while todo:
-            for target in graph[todo.pop()] - seen:
-                seen.add(target)
-                todo.append(target)
-        return seen
-
     upward = sorted((m, t) for m in graph if any(_in(m, low) for low in BELOW_THE_SCENE)
-                    for t in reached(m) if _in(t, "towcable_fmu.scene"))
+                    for t in reached(graph, m) if _in(t, "towcable_fmu.scene"))
     assert upward == []
+
+
+def reached(graph: dict[str, set[str]], module: str) -> set[str]:
+    """Every module that ``module`` imports, directly or through other modules."""
+    seen, todo = set(), [module]
+    while todo:
+        for target in graph[todo.pop()] - seen:
+            seen.add(target)
+            todo.append(target)
+    return seen
+
+
+def formulations_reached_from(graph: dict[str, set[str]], package: str) -> list[tuple[str, str]]:
+    """(module of ``package``, formulation module it reaches) for every such pair."""
+    return sorted((m, t) for m in graph if _in(m, package) for t in reached(graph, m)
+                  if any(_in(t, f) for f in FORMULATIONS))
+
+
+def test_numerics_knows_no_formulation():
+    """The solvers in numerics/ (the generalised-alpha scheme, the banded LU, the explicit
+    step) receive a model's residual and matrix and import no formulation package, not even
+    through another module. The check can fail: an import of the ANCF model two modules away."""
+    fake = {"towcable_fmu.numerics.scheme": {"towcable_fmu.kernel_cache"},
+            "towcable_fmu.kernel_cache": {"towcable_fmu.ancf.model"}, "towcable_fmu.ancf.model": set()}
+    assert formulations_reached_from(fake, "towcable_fmu.numerics") == [
+        ("towcable_fmu.numerics.scheme", "towcable_fmu.ancf.model")]
+    assert formulations_reached_from(import_graph(), "towcable_fmu.numerics") == []
