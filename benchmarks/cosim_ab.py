@@ -69,11 +69,18 @@ def main() -> None:
             m = {key: statistics.median(x[key] for x in results[name]) for key in results[name][0]}
             rows.append([f"{step:g}", name, f"{m['speed']:.1f}", f"{m['towcable_us']:.1f}", f"{m['outside_us']:.1f}",
                          f"{m['light_us']:.1f}"])
+    report(f"A = {trees['A']}, B = {trees['B']}; {args.duration:g} s", load0,
+           ["communication step [s]", "tree", "x real time", "TowCable model [us/step]", "outside TowCable [us/step]",
+            "light FMUs' models [us/step]"], rows)
+
+
+def report(what: str, load0: float, headers: list[str], rows: list[list[str]]) -> None:
+    """Print the machine, ``what`` was run with the load average at the start (``load0``)
+    and now, and the table."""
     print(machine_header())
-    print(f"\nA = {trees['A']}, B = {trees['B']}; {args.duration:g} s, medians of {REPEATS} alternating fresh "
-          f"processes; load average {load0:.1f} at the start, {os.getloadavg()[0]:.1f} at the end\n")
-    print(markdown_table(["communication step [s]", "tree", "x real time", "TowCable model [us/step]",
-                          "outside TowCable [us/step]", "light FMUs' models [us/step]"], rows))
+    print(f"\n{what}; medians of {REPEATS} alternating fresh processes; load average {load0:.1f} at the start, "
+          f"{os.getloadavg()[0]:.1f} at the end\n")
+    print(markdown_table(headers, rows))
 
 
 if __name__ == "__main__":

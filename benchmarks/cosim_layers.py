@@ -26,7 +26,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-REPEATS = 3
+from cosim_ab import REPEATS, report
+
 H = 0.01
 
 
@@ -98,7 +99,6 @@ def _timed(kernel, total: list):
 
 
 def main(trees: list[str]) -> None:
-    from common import machine_header, markdown_table
 
     base = Path(tempfile.mkdtemp(prefix="cosim_layers_"))
     dirs = {tree: base / f"t{k}" for k, tree in enumerate(trees)}
@@ -113,14 +113,11 @@ def main(trees: list[str]) -> None:
                 raise RuntimeError(f"{tree}: {done.stderr.strip()[-2000:]}")
             if r:
                 results[tree].append(json.loads(done.stdout.strip().splitlines()[-1]))
-    rows = [[tree, *(f"{statistics.median(x[key] for x in results[tree]):.1f}" for key in ("step", "model", "outside", "compiled", "python"))]
-            for tree in trees]
-    print(machine_header())
-    print(f"\nmedians of {REPEATS} alternating fresh processes; load average {load0:.1f} at the start, "
-          f"{os.getloadavg()[0]:.1f} at the end\n")
-    print(markdown_table(["tree", "fmi2DoStep [us]", "model_wall_time [us]", "outside the model [us]",
-                          "compiled step [us]", "Python around the compiled step [us]"], rows))
-
+    keys = ("step", "model", "outside", "compiled", "python")
+    rows = [[tree, *(f"{statistics.median(x[key] for x in results[tree]):.1f}" for key in keys)] for tree in trees]
+    report("TowCable FMU, full_scale, 0.01 s", load0,
+           ["tree", "fmi2DoStep [us]", "model_wall_time [us]", "outside the model [us]", "compiled step [us]",
+            "Python around the compiled step [us]"], rows)
 
 if __name__ == "__main__":
     if sys.argv[1:2] == ["--child"]:
