@@ -16,8 +16,13 @@ gets and sets without Python) against every call through Python
 process, medians of three, per communication step the time outside TowCable's model
 (the two light FMUs, every FMI call, the master) and the speed.
 
+The same system under a third-party host, libcosim (OSP's, through libcosimpy, from the
+SSP file of the master's parameters): per communication step each model's time and
+the rest (the FMI calls and the host), beside fmpy's master (issue 40, item 5).
+
 Run: ``python benchmarks/cosim.py``; writes ``results/cosim.md``
-(``--shared-values``: only the comparison, printed).
+(``--shared-values``: only the comparison, printed; ``--hosts``: only the two hosts,
+printed).
 """
 
 from __future__ import annotations
@@ -79,6 +84,75 @@ def shared_values_table() -> str:
                               "TowCable model [us/step], Python", "TowCable model [us/step], shared"], rows))
 
 
+def libcosim_host(step: float, duration: float = DURATION) -> dict[str, float]:
+    """The same system run by a third-party host, libcosim (OSP, through libcosimpy) from
+    the SSP file of the master's parameters: medians of REPEATS runs of the wall time of
+    its steps and of each FMU's ``model_wall_time`` per communication step [us], and the
+    rest ('FMI calls + host': the loaders, libcosim's exchange and its own loop)."""
+    import tempfile
+    from pathlib import Path
+
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimObserver import CosimObserver
+
+    from towcable_fmu.cosim import CosimConfig, run_cosim
+    from towcable_fmu.fmu_build.build import ensure_fmus
+    from towcable_fmu.fmu_build.ssp import write_ssp
+
+    config = CosimConfig(duration=step, step=step, compensation="simplified_sheave", fmu_dir="fmus")
+    parameters = run_cosim(config, echo=False).parameters  # (the master's geometry: theta_nom, reference point)
+    ssp = write_ssp(Path(tempfile.mkdtemp()) / "system.ssp", ensure_fmus("fmus"), parameters,
+                    stop_time=duration + step)
+    log_output_level(CosimLogLevel.ERROR)
+    n = int(round(duration / step))
+    runs = []
+    for _ in range(REPEATS):
+        execution = CosimExecution.from_ssp_file(str(ssp), step_size=int(round(step * 1e9)))
+        observer = CosimObserver.create_last_value()
+        execution.add_observer(observer)
+        index = {info.name.decode(): info.index for info in execution.slave_infos()}
+        timer = {name: next(v.reference for v in execution.slave_variables(i) if v.name.decode() == "model_wall_time")
+                 for name, i in index.items()}
+        execution.step(1)  # initialisation and the first step: not timed
+
+        def models() -> dict[str, float]:
+            return {name: observer.last_real_values(i, [timer[name]])[0] for name, i in index.items()}
+
+        before = models()
+        start = time.perf_counter()
+        execution.step(n)
+        wall = time.perf_counter() - start
+        after = models()
+        run = {f"model.{name}": 1e6 * (after[name] - before[name]) / n for name in FMUS}
+        run["wall"] = 1e6 * wall / n
+        run["outside"] = run["wall"] - sum(run[f"model.{name}"] for name in FMUS)
+        run["realtime_factor"] = duration / wall
+        runs.append(run)
+    return {key: statistics.median(r[key] for r in runs) for key in runs[0]}
+
+
+def hosts_table() -> str:
+    """Per communication step, fmpy's master (`run_cosim`) and libcosim side by side (Markdown)."""
+    rows = []
+    for step in STEPS:
+        t = cosim(step)
+        n = t["steps"]
+        fmpy = [1e6 * t[f"model.{name}"] / n for name in FMUS]
+        lib = libcosim_host(step)
+        rows.append([f"{step:g}", "fmpy master (`run_cosim`)", f"{t['realtime_factor']:.1f}", *(f"{m:.1f}" for m in fmpy),
+                     f"{1e6 * t['wall'] / n - sum(fmpy):.1f}"])
+        rows.append([f"{step:g}", "libcosim (SSP)", f"{lib['realtime_factor']:.1f}",
+                     *(f"{lib[f'model.{name}']:.1f}" for name in FMUS), f"{lib['outside']:.1f}"])
+    return ("\nPer communication step, two hosts of the same FMUs: fmpy's master and a third-party host, "
+            f"libcosim (libcosimpy, from the SSP file of the master's parameters), {DURATION:g} s, medians of "
+            f"{REPEATS}. Each model's time is its `model_wall_time`; 'FMI calls + host' is the rest of the wall "
+            "time of the steps (the loader layer, pythonfmu, the host's exchange and loop).\n\n"
+            + markdown_table(["communication step [s]", "host", "x real time", "TowCable [us/step]",
+                              "ShipMotion [us/step]", "HeaveCompensation [us/step]", "FMI calls + host [us/step]"],
+                             rows))
+
+
 def standalone() -> float:
     """Median simulated seconds per wall second of the Simulation alone (same scene and sea)."""
     from towcable_fmu.ancf.simulation import Simulation
@@ -120,13 +194,16 @@ def main() -> None:
                             "slaves' glue [us/step]", "FMI calls + master [us/step]", "overhead [%]"],
                            rows),
             f"\nThe `Simulation` alone on the same scene, sea and set-point (recording every 0.1 s): "
-            f"{alone:.1f} x real time.\n", shared_values_table(), "\n"]
+            f"{alone:.1f} x real time.\n", hosts_table(), shared_values_table(), "\n"]
     (RESULTS / "cosim.md").write_text("".join(text), encoding="utf-8")
     print("".join(text))
 
 
 if __name__ == "__main__":
-    if "--shared-values" in sys.argv:
+    if "--hosts" in sys.argv:
+        cosim(0.01)  # build the FMUs if needed and load the compiled kernels
+        print(machine_header() + hosts_table())
+    elif "--shared-values" in sys.argv:
         cosim(0.01)  # build the FMUs if needed and load the compiled kernels
         print(machine_header() + shared_values_table())
     else:

@@ -12,6 +12,7 @@ which it calls in loops.
 from __future__ import annotations
 
 import math
+import operator
 from typing import Any, Mapping, NamedTuple
 
 import numpy as np
@@ -36,6 +37,7 @@ from ..runtime.tables import reject_unmodelled
 from .forces import TABLES as TERM_TABLES, build_hooks
 from .forces.hooks import TermHooks
 from .stepper import new_stepper, save_state, step_to
+from .buffer_step import DONE, ROLL_BACK, buffer_plan, step_on_values
 from .remeshing import Remeshing
 from .state_queries import PROFILE_XI as _PROFILE_XI, StateQueries
 
@@ -147,7 +149,7 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         self._last_outputs: dict[str, float] = {}
         #: all outputs at the state a step reached, recorded by the step's own kernel call
         #: (one call from Python per FMU step instead of two), with the state's fingerprint
-        self._stepped: tuple[tuple, np.ndarray] | None = None
+        self._stepped: tuple[float, np.ndarray] | None = None
         #: the Stepper of the FMU's steps (:mod:`towcable_fmu.ancf.stepper`) with what it holds
         self._stepper: tuple | None = None
         #: The outputs this scene has (names in docs/design.md): the cable's and its terms', see :meth:`outputs`.
@@ -521,15 +523,59 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         workspace and output scene (built again when one of them was replaced), its row
         of outputs and its saved state."""
         held = (self.model, self.options, self.state, self.workspace, self.output_scene)
-        # (the ids of the objects held: they stay alive while held, so no other takes their id)
-        key = tuple(map(id, held))
-        if self._stepper is None or key != self._stepper[0]:
+        if self._stepper is None or not all(map(operator.is_, held, self._stepper[0])):
             rows = np.empty((1, len(OUTPUT_FIELDS)))
             saved = genalpha.IntegratorState(*(np.empty_like(x) for x in self.state))
             stepper = new_stepper(*held, _ALL_OUTPUTS, rows, np.zeros(1), np.zeros((1, 3, drive_poly.N_CHANNELS)),
                                   saved)
-            self._stepper = (key, stepper, rows, saved, held)
+            self._stepper = (held, stepper, rows, saved)
         return self._stepper[1], self._stepper[2], self._stepper[3]
+
+    def buffer_plan(self, inputs: np.ndarray, outputs: np.ndarray, positions: np.ndarray,
+                    booleans: np.ndarray) -> np.ndarray | None:
+        """Where an FMU keeps this simulation's inputs and outputs in its buffer of values
+        (:func:`~towcable_fmu.ancf.buffer_step.buffer_plan`, for :meth:`step_on_values`);
+        None if its steps need Python (a term acting between steps or with outputs or a
+        state of its own in Python, a payout program).
+
+        Parameters
+        ----------
+        inputs
+            (20,): the buffer's indices of the ship state (3, 6) in row order and of
+            phi_sp [rad], phi_sp_rate [rad/s].
+        outputs, positions, booleans
+            (k,): the buffer's index of each output, its position in :attr:`names`, and
+            whether it is a Boolean.
+        """
+        if self._staggered or self._python_outputs or self._saving or self._program is not None:
+            return None
+        index = np.asarray(self.layout.index)
+        return buffer_plan(inputs, index, outputs, index[np.asarray(positions, dtype=np.intp)], booleans)
+
+    def step_on_values(self, t_end: float, values: np.ndarray, plan: np.ndarray) -> bool:
+        """:meth:`step_row` to ``t_end`` [s] (by ``t_end - time``) with the inputs read from
+        the buffer ``values`` and the outputs written into it (:meth:`buffer_plan`), in one
+        compiled call (:func:`~towcable_fmu.ancf.buffer_step.step_on_values`).
+
+        Returns
+        -------
+        bool
+            True if the step is made; False if not, with nothing changed: the step is for
+            :meth:`step_row` to make or to refuse with the reason (non-finite inputs or step,
+            a failed step, non-finite outputs, a payout beyond the drum).
+        """
+        if self.turbulence is not None:
+            self._cover(t_end)
+        stepper, rows, saved = self._current_stepper()
+        status = step_on_values(stepper, values, plan, t_end,
+                                math.inf if self._payout_limit is None else self._payout_limit)
+        if status == DONE:
+            self._setpoint = (float(values[plan[20]]), float(values[plan[21]]))
+            self._stepped = (self._fingerprint(), rows[0])
+            return True
+        if status == ROLL_BACK:
+            self._restore((saved, self._extra_state()))
+        return False
 
     def _snapshot(self) -> tuple[genalpha.IntegratorState, dict[str, Any]]:
         """The state arrays, copied by one compiled call into the Stepper's saved state, and
@@ -538,9 +584,11 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         save_state(stepper)
         return saved, self._extra_state()
 
-    def _fingerprint(self) -> tuple:
-        """What identifies the state a step reached: its time and the solver counters."""
-        return float(self.state.clock[genalpha.CLOCK_TIME]), self.state.stats.tobytes()
+    def _fingerprint(self) -> float:
+        """What identifies the state a step reached among those the kept outputs may be
+        asked of: its time [s] (every other move of the state drops them: the run loop,
+        a restore, new coordinates, a new model)."""
+        return float(self.state.clock[genalpha.CLOCK_TIME])
 
     def _counters(self) -> np.ndarray:
         return self.state.stats
@@ -622,6 +670,7 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         staggered term between steps (the wake coupling) are recorded
         in Python, one sample at a time.
         """
+        self._stepped = None  # (the outputs kept of the last step are not those of the states reached here)
         feedback = self._feedback()
         in_python = bool(self._python_outputs or self._staggered)
         interpolate = not in_python and not feedback

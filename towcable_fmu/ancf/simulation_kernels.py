@@ -30,6 +30,7 @@ from ..parallel_compile import Job
 from ..hydro.rigid_body import tow_point_state
 from .simulation import _ALL_OUTPUTS, _NO_DRIVE, Simulation
 from .stepper import new_stepper, save_state, step_to
+from .buffer_step import step_on_values
 
 #: The scene whose model supplies the argument types.
 REFERENCE_SCENE = "full_scale"
@@ -119,6 +120,10 @@ def _step_to() -> tuple:
     return new_stepper(*_new_stepper()), 1.0, 0.0, np.zeros((3, 6)), 0.0, 0.0
 
 
+def _step_on_values() -> tuple:
+    return new_stepper(*_new_stepper()), np.zeros(20), np.zeros(22, dtype=np.intp), 1.0, np.inf
+
+
 def _band(with_rhs: bool) -> tuple:
     s = _reference()
     ws, m = s.workspace, s.model
@@ -182,4 +187,6 @@ def kernel_jobs() -> list[Job]:
         Job("stepper.new_stepper", new_stepper, _new_stepper, 1.5),
         Job("stepper.step_to", step_to, _step_to, 2.0, ("stepper.new_stepper", "ancf.advance_recording")),
         Job("stepper.save_state", save_state, lambda: (new_stepper(*_new_stepper()),), 1.0, ("stepper.new_stepper",)),
+        Job("buffer_step.step_on_values", step_on_values, _step_on_values, 2.0,
+            ("stepper.step_to", "stepper.save_state")),
     ]

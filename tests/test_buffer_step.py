@@ -1,0 +1,79 @@
+"""The FMU's step on its buffer of values in one compiled call (towcable_fmu.ancf.buffer_step):
+the same states and outputs as Simulation.step_row, and what step_row refuses left to it
+with nothing changed."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ship_motion import DEFAULT_SEA, motion_from_config
+from towcable_fmu.ancf.simulation import Simulation
+
+
+def _pair() -> tuple[Simulation, Simulation]:
+    """Two full_scale simulations initialised alike."""
+    first, second = Simulation.from_scene("full_scale"), Simulation.from_scene("full_scale")
+    first.initialize()
+    second.initialize()
+    return first, second
+
+
+def _buffer(sim: Simulation) -> tuple[np.ndarray, np.ndarray]:
+    """A buffer laid out in reverse (outputs first, then the inputs) and its plan."""
+    n = len(sim.names)
+    values = np.zeros(n + 20)
+    plan = sim.buffer_plan(np.arange(n, n + 20)[::-1], np.arange(n)[::-1], np.arange(n), np.zeros(n, dtype=bool))
+    return values, plan
+
+
+def _put_inputs(values: np.ndarray, ship: np.ndarray, setpoint: tuple[float, float]) -> None:
+    n = values.size - 20
+    values[n:][::-1] = np.concatenate([ship.ravel(), setpoint])
+
+
+def _same_state(a: Simulation, b: Simulation) -> None:
+    """The same integrator state and the same state beyond it (the statics' wall time aside)."""
+    for x, y in zip(a.state, b.state):
+        np.testing.assert_array_equal(x, y)
+    saved = [s.get_state() for s in (a, b)]
+    for state in saved:
+        del state["statics"]["solver.statics_wall_time"]
+    assert saved[0] == saved[1]
+
+
+def test_step_on_values_equals_step_row():
+    """Steps in the default sea: the compiled step on the buffer and step_row reach
+    bit-identical states, and the buffer holds step_row's outputs."""
+    sea = motion_from_config(dict(DEFAULT_SEA))
+    rows, buffered = _pair()
+    values, plan = _buffer(buffered)
+    setpoint = (rows._setpoint[0], 0.05)
+    for k in range(30):
+        t = rows.time
+        ship = sea.evaluate(t + 20.0)
+        row = rows.step_row((t + 0.01) - t, ship, setpoint)
+        _put_inputs(values, ship, setpoint)
+        assert buffered.step_on_values(t + 0.01, values, plan)
+        np.testing.assert_array_equal(values[:row.size][::-1], row)
+        _same_state(rows, buffered)
+    assert buffered._setpoint == setpoint
+    assert buffered.outputs() == rows.outputs()
+
+
+def test_refused_steps_change_nothing():
+    """A NaN input, a step that does not move forward and a step whose payout exceeds the
+    drum are not made: False, the state and the buffer's outputs as before."""
+    sim, reference = _pair()
+    values, plan = _buffer(sim)
+    ship = motion_from_config(dict(DEFAULT_SEA)).evaluate(0.0)
+    _put_inputs(values, ship, sim._setpoint)
+    values[:len(sim.names)] = 7.0
+    before = values.copy()
+    bad = values.copy()
+    bad[-5] = np.nan
+    assert not sim.step_on_values(0.01, bad, plan)
+    assert not sim.step_on_values(sim.time, values, plan)
+    sim._payout_limit = reference._payout_limit = sim._payout() - 1.0  # every step goes beyond
+    assert not sim.step_on_values(0.01, values, plan)
+    np.testing.assert_array_equal(values, before)
+    _same_state(sim, reference)
