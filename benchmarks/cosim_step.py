@@ -13,7 +13,10 @@ blocks of 100 steps):
   the per-call costs of a residual, a factorisation (iteration matrix and banded LU),
   a back-solve and the outputs (each a compiled loop over the same call at the last
   state), with the time left for the rest of the step (Python around the compiled
-  step, the integrator's own loops);
+  step, the integrator's own loops); the residual's contact and hydrodynamic terms, the
+  iteration matrix (its contact and hydrodynamic tangents) and the banded LU apart
+  (with a copy of the matrix, 417 x 417 with 11 sub- and super-diagonals on full_scale),
+  and the outputs' contact summary;
 * the standalone ``Simulation.step`` of the same scene at the same step, and
   ``towcable run full_scale --set solver.time_step=0.01`` (``Simulation.run``).
 
@@ -30,6 +33,8 @@ import numpy as np
 from numba import njit
 
 from common import machine_header, markdown_table, per_call_us
+from towcable_fmu.ancf.forces import contact_quadrature, hydro_quadrature
+from towcable_fmu.ancf.forces.contact import elements
 from towcable_fmu.ancf.output_kernel import output_values
 from towcable_fmu.ancf.system import iteration_matrix, residual
 from towcable_fmu.numerics.banded import band_lu, band_solve
@@ -52,6 +57,58 @@ def _factorisations(model, q, v, t, ship, ab, ipiv, n):
     for _ in range(n):
         iteration_matrix(model, q, v, t, ship, 1.0, 1e-3, 1e-5, ab)
         band_lu(ab, model.free_dofs.shape[0], model.kl, model.ku, ipiv)
+
+
+@njit(cache=True)
+def _matrices(model, q, v, t, ship, ab, n):
+    for _ in range(n):
+        iteration_matrix(model, q, v, t, ship, 1.0, 1e-3, 1e-5, ab)
+
+
+@njit(cache=True)
+def _lus(model, ab0, ab, ipiv, n):
+    for _ in range(n):
+        ab[:, :] = ab0
+        band_lu(ab, model.free_dofs.shape[0], model.kl, model.ku, ipiv)
+
+
+@njit(cache=True)
+def _contact_residuals(model, q, v, ship, r, n):
+    for _ in range(n):
+        contact_quadrature.add_residual(model.terms.contact, elements(model), q, v, ship, 0, model.el_len.shape[0], r)
+
+
+@njit(cache=True)
+def _hydro_residuals(model, q, v, a, t, r, n):
+    for _ in range(n):
+        hydro_quadrature.add_residual(model.water, model.terms.hydrodynamics, model.el_len, q, v, a, t, 0,
+                                      model.el_len.shape[0], r)
+
+
+@njit(cache=True)
+def _contact_tangents(model, q, v, ship, n):
+    ne = model.el_len.shape[0]
+    blocks = np.empty((ne, 12, 12))
+    touched = np.empty(ne, dtype=np.bool_)
+    for _ in range(n):
+        contact_quadrature.add_jacobian(model.terms.contact, elements(model), q, v, ship, 1e-3, 1e-5, blocks, touched)
+
+
+@njit(cache=True)
+def _hydro_tangents(model, q, v, t, n):
+    ke = np.empty((12, 12))
+    for _ in range(n):
+        for e in range(model.el_len.shape[0]):
+            ke[:, :] = 0.0
+            hydro_quadrature.add_jacobian(model.water, model.terms.hydrodynamics, model.el_len, q, v, t, e, 1.0,
+                                          1e-3, 1e-5, ke)
+
+
+@njit(cache=True)
+def _contact_summaries(model, q, v, ship, n):
+    for _ in range(n):
+        contact_quadrature.surface_summary(model.terms.contact, elements(model), q, v, ship,
+                                           contact_quadrature.new_summary(0))
 
 
 @njit(cache=True)
@@ -189,11 +246,21 @@ def _part_costs(sim) -> dict[str, float]:
     ab = ws.ab.copy()
     ipiv = ws.ipiv.copy()
     r = np.empty_like(ws.r)
+    q, v, a, t, ship = st.q, st.v, st.a, sim.time, ws.ship
+    iteration_matrix(m, q, v, t, ship, 1.0, 1e-3, 1e-5, ab)
+    ab0 = ab.copy()
     loops = {
-        "residual": lambda: _residuals(m, st.q, st.v, st.a, sim.time, ws.ship, r, CALLS),
-        "factorisation": lambda: _factorisations(m, st.q, st.v, sim.time, ws.ship, ab, ipiv, CALLS),
+        "residual": lambda: _residuals(m, q, v, a, t, ship, r, CALLS),
+        "residual.contact": lambda: _contact_residuals(m, q, v, ship, r, CALLS),
+        "residual.hydro": lambda: _hydro_residuals(m, q, v, a, t, r, CALLS),
+        "factorisation": lambda: _factorisations(m, q, v, t, ship, ab, ipiv, CALLS),
+        "factorisation.matrix": lambda: _matrices(m, q, v, t, ship, ab, CALLS),
+        "factorisation.contact": lambda: _contact_tangents(m, q, v, ship, CALLS),
+        "factorisation.hydro": lambda: _hydro_tangents(m, q, v, t, CALLS),
+        "factorisation.lu": lambda: _lus(m, ab0, ab, ipiv, CALLS),
         "solve": lambda: _solves(m, ws.ab, ws.ipiv, rhs, CALLS),
-        "outputs": lambda: _outputs(m, st.q, st.v, st.a, st.phi, sim.time, ws.ship, sim.output_scene, r, CALLS),
+        "outputs": lambda: _outputs(m, q, v, a, st.phi, t, ship, sim.output_scene, r, CALLS),
+        "outputs.contact": lambda: _contact_summaries(m, q, v, ship, CALLS),
     }
     return {name: per_call_us(loop) / CALLS * 1e-6 for name, loop in loops.items()}
 
@@ -225,6 +292,14 @@ def main() -> None:
          f"{p['iterations']:.2f}, {p['residuals']:.2f}, {p['factorisations']:.3f}"],
         ["TowCable per call: residual, factorisation, back-solve, outputs [us]",
          f"{us['residual']:.1f}, {us['factorisation']:.1f}, {us['solve']:.1f}, {us['outputs']:.1f}"],
+        ["TowCable residual by term: contact, hydrodynamics, the rest (cable structure, body) [us]",
+         f"{us['residual.contact']:.1f}, {us['residual.hydro']:.1f}, "
+         f"{us['residual'] - us['residual.contact'] - us['residual.hydro']:.1f}"],
+        ["TowCable factorisation: iteration matrix (of which contact, hydrodynamic tangents), banded LU [us]",
+         f"{us['factorisation.matrix']:.1f} ({us['factorisation.contact']:.1f}, {us['factorisation.hydro']:.1f}), "
+         f"{us['factorisation.lu']:.1f}"],
+        ["TowCable outputs: contact summary (with its angular span), the rest [us]",
+         f"{us['outputs.contact']:.1f}, {us['outputs'] - us['outputs.contact']:.1f}"],
         ["TowCable parts: residuals + factorisations + back-solves + outputs [us]", f"{parts:.1f}"],
         ["TowCable rest of its model time (Python, integrator loops) [us]", f"{us['TowCable.model'] - parts:.1f}"],
         ["standalone `Simulation.run` at 0.01 s, per step [us]", f"{us['run_per_step']:.1f}"],

@@ -228,7 +228,7 @@ def _rigid_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
 def _contact_values(model: CableModel, q: np.ndarray, v: np.ndarray, ship: np.ndarray, has_winch: bool,
                     sheave_position: np.ndarray, top: float, out: np.ndarray) -> None:
     """Contact forces, departure tensions and angle, wrap and detachment into ``out``."""
-    summary = new_summary(0)
+    summary = new_summary(0, False)  # no distribution, no angular span: the outputs read neither
     surface_summary(model.terms.contact, elements(model), q, v, ship, summary)
     force, ends, lowest, energy = summary.force, summary.ends, summary.lowest, summary.energy
     out[12] = math.sqrt(force[WINCH, 0] ** 2 + force[WINCH, 1] ** 2 + force[WINCH, 2] ** 2)
