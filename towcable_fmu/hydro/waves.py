@@ -337,6 +337,19 @@ def wave_at(table: np.ndarray, depth: float, stretch: int, ramp: float, crest: f
 
 
 @njit(cache=True, inline="always")
+def near(out: np.ndarray, dx: float, dy: float, dz: float) -> tuple:
+    """The velocity [m/s] and acceleration [m/s^2] (6-tuple) at a displacement (dx, dy, dz)
+    [m] from the point of :func:`wave_at`'s output ``out`` (with gradients), to first order:
+    ``u + du/dr d``; the error is at most ``|d|^2 / 2`` times the largest second derivative."""
+    return (out[VEL] + out[DVEL] * dx + out[DVEL + 1] * dy + out[DVEL + 2] * dz,
+            out[VEL + 1] + out[DVEL + 3] * dx + out[DVEL + 4] * dy + out[DVEL + 5] * dz,
+            out[VEL + 2] + out[DVEL + 6] * dx + out[DVEL + 7] * dy + out[DVEL + 8] * dz,
+            out[ACC] + out[DACC] * dx + out[DACC + 1] * dy + out[DACC + 2] * dz,
+            out[ACC + 1] + out[DACC + 3] * dx + out[DACC + 4] * dy + out[DACC + 5] * dz,
+            out[ACC + 2] + out[DACC + 6] * dx + out[DACC + 7] * dy + out[DACC + 8] * dz)
+
+
+@njit(cache=True, inline="always")
 def water_waves(w: WaterModel, x: float, y: float, z: float, t: float, gradients: bool, work: np.ndarray,
                 out: np.ndarray) -> int:
     """:func:`wave_at` for the water ``w`` at the point (x, y, z) [m] (z: height, not from
