@@ -10,7 +10,7 @@ Once per point and time step. The first residual at a time t (the step's predict
 state) evaluates, at each grid point and each crossing of the waterline, the full sum
 of components with its gradients (:func:`~towcable_fmu.hydro.waves.wave_at`; at the
 grid points of the wave zone also the elevation and its slopes) and keeps it as the
-point's reference; the Newton iterates at the same t take the first-order Taylor
+point's reference; the Newton iterates at the same t (to :data:`SAME_TIME`) take the first-order Taylor
 expansion about it in the point's displacement d (:func:`~towcable_fmu.hydro.waves.near`).
 Its error is the remainder, at most ``|d|^2 / 2`` times the largest second derivative of
 the kinematics (of order ``sum a_i omega_i k_i^2`` for the velocity), with d the
@@ -20,7 +20,8 @@ state solves the equations with the expanded kinematics. A dry element is one wh
 control polygon lies above the surface at the hull's centre plus the steepest slope
 ``sum a_i k_i`` times the hull's radius and its centre's distance from the reference
 (a strict bound, not an expansion). Where the first residual at t happens again after
-a restored state, the references are the same (the same predicted state).
+a restored state, the references are the same (the same predicted state); they are
+forgotten when a run starts (``hydrodynamics.Hooks.reset``).
 
 The iteration matrix evaluates the kinematics in full at its own iterate, with their
 exact derivatives with respect to the point, and the crossing's motion with the
@@ -62,18 +63,25 @@ def wave_cache(elements: int, points: int, waves: bool) -> tuple[np.ndarray, np.
     return np.zeros((rows, slots, REF_SIZE)), np.full((rows, slots, 2), -1.0), np.array([math.nan, 0.0])
 
 
+#: Times closer than this are one time of the references [s] (an output sample at a step's
+#: end, its time summed from sample intervals, differs from the step's in the last bits)
+SAME_TIME = 1e-9
+
+
 @njit(cache=True, inline="always")
 def _generation(hy: CableHydro, t: float) -> float:
     """The references' generation at time t [s]: a new one when t is not the last call's."""
-    if hy.wave_clock[0] != t:
+    if not abs(hy.wave_clock[0] - t) <= SAME_TIME:  # (also when the clock is NaN: no references)
         hy.wave_clock[0] = t
         hy.wave_clock[1] += 1.0
     return hy.wave_clock[1]
 
 
 @njit(cache=True, inline="always")
-def _surface(w: WaterModel, hy: CableHydro, gen: float, e: int, slot: int, x: float, y: float, t: float) -> tuple:
-    """Height of the surface [m] and its slopes at (x, y) [m], expanded about the slot's reference."""
+def _surface(w: WaterModel, hy: CableHydro, gen: float, e: int, slot: int, x: float, y: float, t: float,
+             exact: bool) -> tuple:
+    """Height of the surface [m] and its slopes at (x, y) [m], expanded about the slot's
+    reference (``exact``: evaluated in full); the first call of a generation sets the reference."""
     ref = hy.wave_ref[e, slot]
     if hy.wave_stamp[e, slot, SURFACE] != gen:
         eta, ex, ey = elevation(w.waves, w.wave_ramp, x, y, t)
@@ -83,14 +91,17 @@ def _surface(w: WaterModel, hy: CableHydro, gen: float, e: int, slot: int, x: fl
         ref[SURF_EX] = ex
         ref[SURF_EY] = ey
         hy.wave_stamp[e, slot, SURFACE] = gen
+    elif exact:
+        return surface_height(w, x, y, t)
     return (w.surface_z + ref[SURF_ETA] + ref[SURF_EX] * (x - ref[SURF_X]) + ref[SURF_EY] * (y - ref[SURF_Y]),
             ref[SURF_EX], ref[SURF_EY])
 
 
 @njit(cache=True, inline="always")
-def _kinematics(w: WaterModel, hy: CableHydro, gen: float, e: int, slot: int, r: tuple, t: float,
-                work: np.ndarray) -> tuple:
-    """The waves' velocity and acceleration at the point r (6-tuple), expanded about the slot's reference."""
+def _reference(w: WaterModel, hy: CableHydro, gen: float, e: int, slot: int, r: tuple, t: float,
+               work: np.ndarray) -> np.ndarray:
+    """The slot's reference of the kinematics (:func:`~towcable_fmu.hydro.waves.wave_at`'s
+    output with gradients), evaluated at the point r if the generation has none yet."""
     ref = hy.wave_ref[e, slot]
     if hy.wave_stamp[e, slot, KINEMATICS] != gen:
         water_waves(w, r[0], r[1], r[2], t, True, work, ref[KIN:])
@@ -98,6 +109,14 @@ def _kinematics(w: WaterModel, hy: CableHydro, gen: float, e: int, slot: int, r:
         ref[KIN_Y] = r[1]
         ref[KIN_Z] = r[2]
         hy.wave_stamp[e, slot, KINEMATICS] = gen
+    return ref
+
+
+@njit(cache=True, inline="always")
+def _kinematics(w: WaterModel, hy: CableHydro, gen: float, e: int, slot: int, r: tuple, t: float,
+                work: np.ndarray) -> tuple:
+    """The waves' velocity and acceleration at the point r (6-tuple), expanded about the slot's reference."""
+    ref = _reference(w, hy, gen, e, slot, r, t, work)
     return near(ref[KIN:], r[0] - ref[KIN_X], r[1] - ref[KIN_Y], r[2] - ref[KIN_Z])
 
 
@@ -147,7 +166,7 @@ def _quadrature(w: WaterModel, hy: CableHydro, gen: float, e: int, x: np.ndarray
                 dg: np.ndarray, cross: np.ndarray) -> int:
     """Submerged quadrature points of one element (indicator g: depth below the surface,
     its gradient dg with respect to the point); the surface expanded about the step's
-    references (``cached``) or evaluated in full."""
+    references (``cached``) or evaluated in full (setting the references a generation lacks)."""
     waves = high > w.surface_z - w.wave_crest  # some control point above the deepest trough
     for j in range(npts):
         s = j / (npts - 1)
@@ -161,10 +180,7 @@ def _quadrature(w: WaterModel, hy: CableHydro, gen: float, e: int, x: np.ndarray
         if waves:
             px = n0 * x[base] + n1 * x[base + 3] + n2 * x[base + 6] + n3 * x[base + 9]
             py = n0 * x[base + 1] + n1 * x[base + 4] + n2 * x[base + 7] + n3 * x[base + 10]
-            if cached:
-                surface, sx, sy = _surface(w, hy, gen, e, j, px, py, t)
-            else:
-                surface, sx, sy = surface_height(w, px, py, t)
+            surface, sx, sy = _surface(w, hy, gen, e, j, px, py, t, not cached)
             g[j] = surface - z
             dg[j, 0] = sx
             dg[j, 1] = sy
@@ -231,13 +247,16 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
     point velocity, the cable slope and the position (:func:`point_tangent_in_waves`, with
     the waves' gradients evaluated in full at the iterate); the stiffness of the moving
     waterline crossing from the derivative of the wet length (the surface's slope included).
+    The first evaluation at a time (the Jacobian of a step's predicted state) is also the
+    residuals' reference there.
     """
     if not hy.el_on[e]:
         return False
+    gen = _generation(hy, t)
     base = 6 * e
     length = el_len[e]
     low, high, mx, my, radius = _hull(q, base, length)
-    if _is_dry(w, hy, 0.0, e, low, mx, my, radius, t, False):
+    if _is_dry(w, hy, gen, e, low, mx, my, radius, t, False):
         return False
     npts = hy.el_npts[e]
     m = 2 * npts
@@ -249,7 +268,7 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
     dg = np.empty((m, 3))
     work = np.empty(scratch_size(w.waves))
     kin = np.empty(OUT_SIZE)
-    count = _quadrature(w, hy, 0.0, e, q, base, length, npts, high, t, False, xi, wt, g, dg, cross)
+    count = _quadrature(w, hy, gen, e, q, base, length, npts, high, t, False, xi, wt, g, dg, cross)
     section = element_section(hy, e)
     rho_a_cm = w.density * section.area * section.cm
     on_point = np.empty((3, 3))  # the load's derivative with respect to the point (added mass, velocity, position)
@@ -261,11 +280,16 @@ def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
         n = hermite(xi[p], length)
         r = interpolate(q, base, n[0], n[1], n[2], n[3])
         slope = interpolate(q, base, n[4], n[5], n[6], n[7])
-        water_waves(w, r[0], r[1], r[2], t, True, work, kin)
-        wave = (kin[VEL], kin[VEL + 1], kin[VEL + 2], kin[ACC], kin[ACC + 1], kin[ACC + 2])
-        dwave = (kin[DVEL], kin[DVEL + 1], kin[DVEL + 2], kin[DVEL + 3], kin[DVEL + 4], kin[DVEL + 5],
-                 kin[DVEL + 6], kin[DVEL + 7], kin[DVEL + 8], kin[DACC], kin[DACC + 1], kin[DACC + 2],
-                 kin[DACC + 3], kin[DACC + 4], kin[DACC + 5], kin[DACC + 6], kin[DACC + 7], kin[DACC + 8])
+        slot = p if p < npts else npts + cross[p]
+        if hy.wave_stamp[e, slot, KINEMATICS] != gen:  # the first evaluation at t: the residuals' reference
+            kw = _reference(w, hy, gen, e, slot, r, t, work)[KIN:]
+        else:
+            water_waves(w, r[0], r[1], r[2], t, True, work, kin)
+            kw = kin[:]
+        wave = (kw[VEL], kw[VEL + 1], kw[VEL + 2], kw[ACC], kw[ACC + 1], kw[ACC + 2])
+        dwave = (kw[DVEL], kw[DVEL + 1], kw[DVEL + 2], kw[DVEL + 3], kw[DVEL + 4], kw[DVEL + 5], kw[DVEL + 6],
+                 kw[DVEL + 7], kw[DVEL + 8], kw[DACC], kw[DACC + 1], kw[DACC + 2], kw[DACC + 3], kw[DACC + 4],
+                 kw[DACC + 5], kw[DACC + 6], kw[DACC + 7], kw[DACC + 8])
         f, dv, dp, dr = point_tangent_in_waves(w, section, t, r[2], slope,
                                                interpolate(v, base, n[0], n[1], n[2], n[3]), wave, dwave)
         fpt[p, 0], fpt[p, 1], fpt[p, 2] = f
