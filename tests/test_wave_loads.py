@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from towcable_fmu.ancf.forces import hydro_quadrature as cable_hydro
+from towcable_fmu.ancf.forces import wave_quadrature as cable_hydro
 from towcable_fmu.ancf.forces.hydro_quadrature import CableHydro
 from towcable_fmu.hydro import waves as W
 from towcable_fmu.hydro.loading import NORMAL_TANGENTIAL
@@ -38,7 +38,7 @@ def _cable() -> tuple[CableHydro, np.ndarray, np.ndarray]:
     ne = ELEMENTS
     hy = CableHydro(True, np.ones(ne, dtype=bool), np.full(ne, NORMAL_TANGENTIAL, dtype=np.int64), np.full(ne, D),
                     np.full(ne, math.pi * D * D / 4), np.full(ne, CD), np.zeros(ne), np.ones(ne), np.full(ne, CM),
-                    np.full(ne, 10, dtype=np.int64), np.zeros(1, dtype=np.int64))
+                    np.full(ne, 10, dtype=np.int64), np.zeros(1, dtype=np.int64), *cable_hydro.wave_cache(ne, 10, True))
     length = (TOP - BOTTOM) / ne
     q = np.zeros(6 * (ne + 1))
     q[2::6] = BOTTOM + length * np.arange(ne + 1)
@@ -132,3 +132,56 @@ def test_body_held_at_the_surface_at_crest_and_trough(crest):
     assert force[0] == pytest.approx(fraction * 0.5 * RHO * cda[0] * abs(u) * u, rel=1e-9)
     assert force[1] == pytest.approx(0.0, abs=1e-9)
     assert force[2] == pytest.approx(fraction * (RHO * volume * G + RHO * volume * 2.0 * a_z), rel=1e-9)
+
+
+def test_kinematics_expanded_about_the_step_references_against_the_full_evaluation():
+    """Within a time step the residual expands the waves' kinematics about references taken
+    at the first residual of that time (wave_quadrature): at the iterates its load differs
+    from the full evaluation by the second-order remainder only. A submerged inclined cable
+    (Wheeler: the stretched height follows the elevation at the point) displaced by a smooth
+    field d of amplitude delta: the difference falls 4-fold as delta halves (a wrong
+    gradient leaves a first-order error, 2-fold), and stays below the remainder's bound.
+
+    The bound, per node: the kinematics' second derivative along d is at most
+    2 a omega k^2 coth(k h) |d|^2 (each of xx, xz, zz; (1 + a k)^2 for Wheeler's dependence
+    on the elevation), so the velocity's remainder at most a omega k^2 coth(kh) (1 + ak)^2
+    |d|^2 and the acceleration's omega times that; the drag changes with the velocity by at
+    most rho d C_D |V| (|V| <= a omega coth(kh) here: no current, cable at rest), the
+    inertia by (1 + C_m) rho A per unit acceleration; a node's shape functions weigh at
+    most one element length."""
+    w = _water(W.STRETCH_WHEELER)
+    hy, el_len, q0 = _cable()
+    q0[2::6] -= TOP + 2.0 * AMP  # below the deepest trough: no waterline
+    q0[0::6] = 0.3 * (q0[2::6] - q0[2])  # inclined in x (nodes: the slopes follow)
+    q0[3::6] = 0.3
+    norm = math.hypot(0.3, 1.0)
+    q0[3::6] /= norm
+    q0[5::6] /= norm
+    zero = np.zeros_like(q0)
+    s = np.zeros_like(q0)
+    s[0::6] = np.cos(0.7 * q0[2::6])  # a smooth displacement field of amplitude up to 1.37
+    s[1::6] = 0.5 * np.sin(0.4 * q0[2::6])
+    s[2::6] = 0.8 * np.cos(0.3 * q0[2::6] + 1.0)
+    t = 1.3
+
+    def residual(q, fresh):
+        if fresh:
+            hy.wave_clock[0] = math.nan  # references at q: the full evaluation
+        out = np.zeros_like(q)
+        cable_hydro.add_residual(w, hy, el_len, q, zero, zero, t, 0, ELEMENTS, out)
+        return out
+
+    omega = 2 * math.pi / PERIOD
+    k = W.dispersion(np.array([omega]), DEPTH, G)[0]
+    coth = 1.0 / math.tanh(k * DEPTH)
+    velocity = AMP * omega * coth
+    per_d2 = AMP * omega * k * k * coth * (1.0 + AMP * k) ** 2  # velocity remainder per |d|^2 [1/(m s)]
+    sensitivity = RHO * D * CD * velocity + (1.0 + CM) * RHO * math.pi * D * D / 4 * omega  # [N s/m^2]
+    errors = []
+    for delta in (0.05, 0.025):
+        residual(q0, True)  # the references at q0 (the predicted state)
+        expanded = residual(q0 + delta * s, False)
+        errors.append(np.abs(expanded - residual(q0 + delta * s, True)).max())
+        d2 = delta ** 2 * (s[0::6] ** 2 + s[1::6] ** 2 + s[2::6] ** 2).max()
+        assert 0.0 < errors[-1] < el_len[0] * sensitivity * per_d2 * d2
+    assert 3.5 < errors[0] / errors[1] < 4.5

@@ -22,6 +22,7 @@ from .system import iteration_matrix, residual
 from .forces import contact_quadrature as cable_contact
 from ..runtime.drive import evaluate_drive
 from .forces import hydro_quadrature as cable_hydro
+from .forces import wave_quadrature as wave_hydro
 from ..kinematics import rotation_derivatives, rotation_matrix, ship_point_kinematics
 from . import genalpha
 from ..numerics.banded import band_lu, band_positive_pivots, band_solve
@@ -153,17 +154,19 @@ def kernel_jobs() -> list[Job]:
     return [
         Job("kinematics.rotation_derivatives", rotation_derivatives, lambda: (np.zeros((3, 6)),), 2.0),
         Job("hydro.add_residual", cable_hydro.add_residual, _hydro_residual, 3.8),
+        Job("hydro.add_residual_in_waves", wave_hydro.add_residual, _hydro_residual, 3.8),
         Job("rigid_body.tow_point_state", tow_point_state, _tow_point_state, 1.1),
         Job("contact.add_residual", cable_contact.add_residual, _contact_residual, 3.7,
             ("kinematics.rotation_derivatives",)),
         Job("ancf.rigid_link_rows", rigid_link.link_rows, _link_rows, 3.2, ("rigid_body.tow_point_state",)),
         Job("ancf.residual", residual, _residual, 8.1,
-            ("contact.add_residual", "ancf.rigid_link_rows", "hydro.add_residual")),
+            ("contact.add_residual", "ancf.rigid_link_rows", "hydro.add_residual", "hydro.add_residual_in_waves")),
         Job("contact.add_jacobian", cable_contact.add_jacobian, _contact_jacobian, 3.1,
             ("kinematics.rotation_derivatives",)),
         Job("hydro.add_jacobian", cable_hydro.add_jacobian, _hydro_jacobian, 1.8),
+        Job("hydro.add_jacobian_in_waves", wave_hydro.add_jacobian, _hydro_jacobian, 1.8),
         Job("ancf.iteration_matrix", iteration_matrix, _iteration_matrix, 8.0,
-            ("contact.add_jacobian", "hydro.add_jacobian", "ancf.rigid_link_rows")),
+            ("contact.add_jacobian", "hydro.add_jacobian", "hydro.add_jacobian_in_waves", "ancf.rigid_link_rows")),
         Job("contact.surface_summary", cable_contact.surface_summary, _surface_summary, 2.8,
             ("kinematics.rotation_derivatives",)),
         Job("ancf.band_lu", band_lu, lambda: _band(False), 0.3),

@@ -40,10 +40,6 @@ from .water import CURRENT_LINEAR, WaterModel, mean_flow, turbulence
 _TINY = 1e-12
 _ZERO3 = (0.0, 0.0, 0.0)
 _ZERO9 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-#: The ``wave`` argument of :func:`point_load` in still water
-NO_WAVE = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-#: The ``dwave`` argument of :func:`point_tangent` in still water
-NO_WAVE_GRADIENT = (0.0,) * 18
 
 
 # Scalar arguments only: a plain kernel, compiled once with the loading functions and
@@ -256,26 +252,18 @@ def unit_direction(p: tuple) -> tuple:
 
 
 @njit(cache=True, inline="always")
-def point_load(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v: tuple, a: tuple,
-               wave: tuple) -> tuple:
-    """Hydrodynamic load per unit length [N/m] at a submerged point of height ``rz`` [m],
-    slope ``p`` (3-tuple, any length), velocity ``v`` [m/s] and acceleration ``a`` [m/s^2]
-    (3-tuples; pass a = 0 to leave out the added mass) at time ``t`` [s], in the waves'
-    particle velocity [m/s] and acceleration [m/s^2] ``wave`` (6-tuple; zeros in still
-    water), which join the current and the turbulence in the relative flow and the fluid's
-    acceleration (not the amplified mean drag, which is the mean current's)."""
+def _morison(w: WaterModel, section: Section, mean: tuple, flow: tuple, flow_acc: tuple, p: tuple, v: tuple,
+             a: tuple) -> tuple:
+    """The load of :func:`point_load` in the flow velocity ``flow`` [m/s] and acceleration
+    ``flow_acc`` [m/s^2] (3-tuples) with the mean current ``mean`` [m/s] (of the amplified
+    drag)."""
     kind, d, area, cd, g_amp, cm, cdt = section
     vx, vy, vz = v
     ax, ay, az = a
     ux, uy, uz, lp = unit_direction(p)
-    mx, my, mz = mean_flow(w, rz)
-    tx, ty, tz, afx, afy, afz = turbulence(w, t)
-    wx, wy, wz, wax, way, waz = wave
-    afx += wax
-    afy += way
-    afz += waz
-    fx, fy, fz = drag(w.density, w.viscosity, kind, d, cd, cdt, mx + tx + wx - vx, my + ty + wy - vy, mz + tz + wz - vz,
-                      ux, uy, uz)
+    mx, my, mz = mean
+    afx, afy, afz = flow_acc
+    fx, fy, fz = drag(w.density, w.viscosity, kind, d, cd, cdt, flow[0] - vx, flow[1] - vy, flow[2] - vz, ux, uy, uz)
     if g_amp != 1.0:
         sx, sy, sz = drag(w.density, w.viscosity, kind, d, cd, cdt, mx, my, mz, ux, uy, uz)
         fx += (g_amp - 1.0) * sx
@@ -294,30 +282,40 @@ def point_load(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v
 
 
 @njit(cache=True, inline="always")
-def point_tangent(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v: tuple, wave: tuple,
-                  dwave: tuple) -> tuple:
-    """The load of :func:`point_load` without the added mass (a = 0) and its exact derivatives.
+def point_load(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v: tuple, a: tuple) -> tuple:
+    """Hydrodynamic load per unit length [N/m] at a submerged point of height ``rz`` [m],
+    slope ``p`` (3-tuple, any length), velocity ``v`` [m/s] and acceleration ``a`` [m/s^2]
+    (3-tuples; pass a = 0 to leave out the added mass) at time ``t`` [s], in still water
+    (current and turbulence)."""
+    mx, my, mz = mean_flow(w, rz)
+    tx, ty, tz, afx, afy, afz = turbulence(w, t)
+    return _morison(w, section, (mx, my, mz), (mx + tx, my + ty, mz + tz), (afx, afy, afz), p, v, a)
 
-    Arguments as :func:`point_load`; ``dwave`` (18-tuple): the derivatives of the waves'
-    velocity [1/s] and acceleration [1/s^2] with respect to the point, row-major 3x3 each
-    (:func:`towcable_fmu.hydro.waves.wave_at`). Returns ``(f, df/dv, df/dp, df/dr)``: the
-    load per unit length f [N/m] (3-tuple), its derivatives with respect to the point
-    velocity [N s/m^2] and the slope p [N/m], and with respect to the point's position
-    [N/m^2] (9-tuples, row-major; zero unless the current varies with depth or there are
-    waves). The drag's derivatives are :func:`drag_jacobian`'s; the added-mass term's
-    dependence on the direction is left out (the added-mass matrix W(74) is the tangent's
-    inertia part)."""
-    kind, d, area, cd, g_amp, cm, cdt = section
-    vx, vy, vz = v
-    ux, uy, uz, lp = unit_direction(p)
+
+@njit(cache=True, inline="always")
+def point_load_in_waves(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v: tuple, a: tuple,
+                        wave: tuple) -> tuple:
+    """:func:`point_load` in the waves' particle velocity [m/s] and acceleration [m/s^2]
+    ``wave`` (6-tuple), which join the current and the turbulence in the relative flow and
+    the fluid's acceleration (not the amplified mean drag, which is the mean current's)."""
     mx, my, mz = mean_flow(w, rz)
     tx, ty, tz, afx, afy, afz = turbulence(w, t)
     wx, wy, wz, wax, way, waz = wave
-    afx += wax
-    afy += way
-    afz += waz
-    (fx, fy, fz), dv, du = drag_jacobian(w.density, w.viscosity, kind, d, cd, cdt, mx + tx + wx - vx,
-                                         my + ty + wy - vy, mz + tz + wz - vz, ux, uy, uz)
+    return _morison(w, section, (mx, my, mz), (mx + tx + wx, my + ty + wy, mz + tz + wz),
+                    (afx + wax, afy + way, afz + waz), p, v, a)
+
+
+@njit(cache=True, inline="always")
+def _morison_tangent(w: WaterModel, section: Section, mean: tuple, flow: tuple, flow_acc: tuple, p: tuple,
+                     v: tuple) -> tuple:
+    """:func:`point_tangent` in the flow ``flow``, ``flow_acc`` (as :func:`_morison`)."""
+    kind, d, area, cd, g_amp, cm, cdt = section
+    vx, vy, vz = v
+    ux, uy, uz, lp = unit_direction(p)
+    mx, my, mz = mean
+    afx, afy, afz = flow_acc
+    (fx, fy, fz), dv, du = drag_jacobian(w.density, w.viscosity, kind, d, cd, cdt, flow[0] - vx, flow[1] - vy,
+                                         flow[2] - vz, ux, uy, uz)
     gm = g_amp - 1.0
     if gm != 0.0:
         (sx, sy, sz), sdv, sdu = drag_jacobian(w.density, w.viscosity, kind, d, cd, cdt, mx, my, mz, ux, uy, uz)
@@ -333,7 +331,6 @@ def point_tangent(w: WaterModel, section: Section, t: float, rz: float, p: tuple
         gx, gy, gz = w.current_grad[0], w.current_grad[1], w.current_grad[2]
         dz = (j[0] * gx + j[1] * gy + j[2] * gz, j[3] * gx + j[4] * gy + j[5] * gz,
               j[6] * gx + j[7] * gy + j[8] * gz)
-    dr = (0.0, 0.0, dz[0], 0.0, 0.0, dz[1], 0.0, 0.0, dz[2])
     rho_a = w.density * area
     fz += rho_a * w.gravity
     # Froude-Krylov k (a_f - (a_f.u) u): derivative -k ((a_f.u) (I - u u^T) + u a_f,n^T)
@@ -347,7 +344,42 @@ def point_tangent(w: WaterModel, section: Section, t: float, rz: float, p: tuple
     fz += k_fk * nfz
     dfk = _span_matrix(-k_fk * afu, k_fk * afu, 0.0, 0.0, -k_fk, ux, uy, uz, nfx, nfy, nfz)
     dp = _combine(1.0 / lp, _combine(1.0, du, gm, sdu), 1.0 / lp, dfk)
-    # the waves change with the point: dV/dr = du_w/dr in the drag, k (I - u u^T) da_w/dr in the
-    # Froude-Krylov term (zero in still water)
-    dr = _combine(1.0, dr, 1.0, _combine(1.0, _product(dv, dwave, 0), k_fk, _normal_product(ux, uy, uz, dwave)))
-    return (fx, fy, fz), _combine(-1.0, dv, 0.0, _ZERO9), dp, dr  # V = V_f - v
+    return (fx, fy, fz), _combine(-1.0, dv, 0.0, _ZERO9), dp, dz  # V = V_f - v
+
+
+@njit(cache=True, inline="always")
+def point_tangent(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v: tuple) -> tuple:
+    """The load of :func:`point_load` without the added mass (a = 0) and its exact derivatives.
+
+    Arguments as :func:`point_load`. Returns ``(f, df/dv, df/dp, df/drz)``: the load per unit
+    length f [N/m] (3-tuple), its derivatives with respect to the point velocity [N s/m^2]
+    and the slope p [N/m] (9-tuples, row-major), and with respect to the height [N/m^2]
+    (3-tuple; zero unless the current varies with depth). The drag's derivatives are
+    :func:`drag_jacobian`'s; the added-mass term's dependence on the direction is left out
+    (the added-mass matrix W(74) is the tangent's inertia part)."""
+    mx, my, mz = mean_flow(w, rz)
+    tx, ty, tz, afx, afy, afz = turbulence(w, t)
+    return _morison_tangent(w, section, (mx, my, mz), (mx + tx, my + ty, mz + tz), (afx, afy, afz), p, v)
+
+
+@njit(cache=True, inline="always")
+def point_tangent_in_waves(w: WaterModel, section: Section, t: float, rz: float, p: tuple, v: tuple, wave: tuple,
+                           dwave: tuple) -> tuple:
+    """The load of :func:`point_load_in_waves` without the added mass (a = 0) and its exact
+    derivatives.
+
+    Arguments as :func:`point_load_in_waves`; ``dwave`` (18-tuple): the derivatives of the
+    waves' velocity [1/s] and acceleration [1/s^2] with respect to the point, row-major 3x3
+    each (:func:`towcable_fmu.hydro.waves.wave_at`). Returns ``(f, df/dv, df/dp, df/dr)`` as
+    :func:`point_tangent`, but the derivative with respect to the point's position [N/m^2]
+    a 9-tuple (row-major): the current's gradient with depth and the waves' with the point."""
+    mx, my, mz = mean_flow(w, rz)
+    tx, ty, tz, afx, afy, afz = turbulence(w, t)
+    wx, wy, wz, wax, way, waz = wave
+    f, dv, dp, dz = _morison_tangent(w, section, (mx, my, mz), (mx + tx + wx, my + ty + wy, mz + tz + wz),
+                                     (afx + wax, afy + way, afz + waz), p, v)
+    ux, uy, uz, lp = unit_direction(p)
+    k_fk = w.density * section.area * (section.cm + 1.0)
+    # dV/dr = du_w/dr in the drag (df/dV = -df/dv), k (I - u u^T) da_w/dr in the Froude-Krylov term
+    dr = _combine(-1.0, _product(dv, dwave, 0), k_fk, _normal_product(ux, uy, uz, dwave))
+    return f, dv, dp, (dr[0], dr[1], dr[2] + dz[0], dr[3], dr[4], dr[5] + dz[1], dr[6], dr[7], dr[8] + dz[2])

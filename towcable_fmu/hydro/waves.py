@@ -49,6 +49,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ship_motion.irregular import _REDUCE_MAX as REDUCE_MAX, _sincos as sincos
+
 from ..kernel_cache import njit
 from ..scene.model import Scene
 from .water import WaterModel, flow
@@ -162,22 +164,42 @@ def crest_bound(table: np.ndarray) -> float:
     return total
 
 
+@njit(cache=True, inline="always")
+def _phases(table: np.ndarray, x: float, y: float, t: float, cs: np.ndarray, sn: np.ndarray) -> tuple:
+    """The components' cos and sin of their phase at (x, y) [m] and time t [s], written to
+    ``cs`` and ``sn``, and the elevation's sum and slopes without the ramp."""
+    n = table.shape[0]
+    largest = 0.0
+    for i in range(n):
+        th = table[i, OMEGA_E] * t - table[i, K] * (table[i, CX] * x + table[i, CY] * y) + table[i, PHASE]
+        cs[i] = th
+        largest = max(largest, abs(th))
+    if largest < REDUCE_MAX:
+        for i in range(n):  # (vectorised: no call, no branch)
+            cs[i], sn[i] = sincos(cs[i])
+    else:
+        for i in range(n):
+            th = cs[i]
+            cs[i] = math.cos(th)
+            sn[i] = math.sin(th)
+    eta = 0.0
+    ex = 0.0
+    ey = 0.0
+    for i in range(n):
+        a, k = table[i, A], table[i, K]
+        eta += a * cs[i]
+        ex += a * k * table[i, CX] * sn[i]
+        ey += a * k * table[i, CY] * sn[i]
+    return eta, ex, ey
+
+
 @njit(cache=True)
 def elevation(table: np.ndarray, ramp: float, x: float, y: float, t: float) -> tuple:
     """Free-surface elevation above the mean level and its slopes at (x, y) [m] and time t [s]:
     ``(eta [m], d eta/dx, d eta/dy)``."""
     f0, f1 = ramp_factor(t, ramp)
-    eta = 0.0
-    ex = 0.0
-    ey = 0.0
-    for i in range(table.shape[0]):
-        a, k = table[i, A], table[i, K]
-        th = table[i, OMEGA_E] * t - k * (table[i, CX] * x + table[i, CY] * y) + table[i, PHASE]
-        c = math.cos(th)
-        s = math.sin(th)
-        eta += a * c
-        ex += a * k * table[i, CX] * s
-        ey += a * k * table[i, CY] * s
+    work = np.empty(2 * table.shape[0])
+    eta, ex, ey = _phases(table, x, y, t, work[:table.shape[0]], work[table.shape[0]:])
     return f0 * eta, f0 * ex, f0 * ey
 
 
@@ -220,19 +242,7 @@ def wave_at(table: np.ndarray, depth: float, stretch: int, ramp: float, crest: f
     cs = work[:n]
     sn = work[n:2 * n]
     acc = work[2 * n:2 * n + _ACC_SIZE]
-    eta = 0.0
-    ex = 0.0
-    ey = 0.0
-    for i in range(n):
-        a, k = table[i, A], table[i, K]
-        th = table[i, OMEGA_E] * t - k * (table[i, CX] * x + table[i, CY] * y) + table[i, PHASE]
-        c = math.cos(th)
-        s = math.sin(th)
-        cs[i] = c
-        sn[i] = s
-        eta += a * c
-        ex += a * k * table[i, CX] * s
-        ey += a * k * table[i, CY] * s
+    eta, ex, ey = _phases(table, x, y, t, cs, sn)
     eta *= f0
     ex *= f0
     ey *= f0
@@ -334,6 +344,19 @@ def wave_at(table: np.ndarray, depth: float, stretch: int, ramp: float, crest: f
                 else:
                     out[DACC + 3 * (c6 - 3) + m] += f0 * d
     return used
+
+
+@njit(cache=True, inline="always")
+def near(out: np.ndarray, dx: float, dy: float, dz: float) -> tuple:
+    """The velocity [m/s] and acceleration [m/s^2] (6-tuple) at a displacement (dx, dy, dz)
+    [m] from the point of :func:`wave_at`'s output ``out`` (with gradients), to first order:
+    ``u + du/dr d``; the error is at most ``|d|^2 / 2`` times the largest second derivative."""
+    return (out[VEL] + out[DVEL] * dx + out[DVEL + 1] * dy + out[DVEL + 2] * dz,
+            out[VEL + 1] + out[DVEL + 3] * dx + out[DVEL + 4] * dy + out[DVEL + 5] * dz,
+            out[VEL + 2] + out[DVEL + 6] * dx + out[DVEL + 7] * dy + out[DVEL + 8] * dz,
+            out[ACC] + out[DACC] * dx + out[DACC + 1] * dy + out[DACC + 2] * dz,
+            out[ACC + 1] + out[DACC + 3] * dx + out[DACC + 4] * dy + out[DACC + 5] * dz,
+            out[ACC + 2] + out[DACC + 6] * dx + out[DACC + 7] * dy + out[DACC + 8] * dz)
 
 
 @njit(cache=True, inline="always")

@@ -43,7 +43,7 @@ import math
 import numpy as np
 
 from ..kernel_cache import njit
-from ..hydro.cable import NO_WAVE, Section, point_load
+from ..hydro.cable import Section, point_load
 from .model import NodalModel
 
 #: Gauss points on [0, 1] (two points, weights 1/2): exact for cubic integrands.
@@ -104,7 +104,7 @@ def add_element(m: NodalModel, e: int, q: np.ndarray, v: np.ndarray, a: np.ndarr
         ax = (1.0 - xi) * a[i] + xi * a[i + 3]
         ay = (1.0 - xi) * a[i + 1] + xi * a[i + 4]
         az = (1.0 - xi) * a[i + 2] + xi * a[i + 5]
-        fx, fy, fz = point_load(w, section, t, pz, (ux, uy, uz), (vx, vy, vz), (ax, ay, az), NO_WAVE)
+        fx, fy, fz = point_load(w, section, t, pz, (ux, uy, uz), (vx, vy, vz), (ax, ay, az))
         wt = 0.5 * m.L0[e]
         _add_pair(r, i, -wt * fx, -wt * fy, -wt * fz, 1.0 - xi, xi)
 

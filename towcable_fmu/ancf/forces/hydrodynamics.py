@@ -1,19 +1,25 @@
 """Force term: Morison hydrodynamics on the cable (drag, buoyancy, inertia, added mass).
 
 The loads of :mod:`towcable_fmu.hydro.cable` integrated along each submerged element
-(:mod:`.hydro_quadrature`); the elements of segments with ``fluid_loads = false`` and
-every element of a dry scene carry none.
+(:mod:`.hydro_quadrature`, in waves :mod:`.wave_quadrature`: the water's component
+table chooses one at each call, so still water runs the code it ran before waves
+existed); the elements of segments with ``fluid_loads = false`` and every element of a
+dry scene carry none.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from typing import Any
+
 from ...kernel_cache import njit
 from ...hydro.loading import LOADINGS
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
 from . import hydro_quadrature as cable_hydro
+from . import wave_quadrature as wave_hydro
+from .hooks import TermHooks
 from .hydro_quadrature import CableHydro
 from .term import add_element_block
 
@@ -28,6 +34,7 @@ def build(scene: Scene, mesh: Mesh, model: CableModel) -> CableHydro:
     wet = bool(model.water.enabled)
     props = [scene.cable.segments[i] for i in mesh.segment_of_element]
     d = np.array([p.diameter for p in props])
+    npts = np.array([p.integration_points for p in props], dtype=np.int64)
     return CableHydro(
         enabled=wet,
         el_on=np.array([wet and p.fluid_loads for p in props], dtype=bool),
@@ -37,8 +44,10 @@ def build(scene: Scene, mesh: Mesh, model: CableModel) -> CableHydro:
         el_cdt=np.array([p.tangential_drag_coefficient or 0.0 for p in props]),
         el_g=np.array([p.drag_amplification for p in props]),
         el_cm=np.array([p.added_mass_coefficient for p in props]),
-        el_npts=np.array([p.integration_points for p in props], dtype=np.int64),
+        el_npts=npts,
         calls=np.zeros(1, dtype=np.int64),
+        **dict(zip(("wave_ref", "wave_stamp", "wave_clock"),
+                   wave_hydro.wave_cache(npts.size, int(npts.max(initial=2)), model.water.waves.shape[0] > 0))),
     )
 
 
@@ -49,9 +58,13 @@ def residual(term: CableHydro, model: CableModel, motion: Motion, a: np.ndarray,
              out: np.ndarray) -> None:
     """Subtract the hydrodynamic forces (and add the added-mass inertia) of the elements
     ``first`` to ``stop - 1`` (none while the model's water is disabled)."""
-    if model.water.enabled:
+    if not model.water.enabled:
+        return
+    if model.water.waves.shape[0] == 0:
         cable_hydro.add_residual(model.water, term, model.el_len, motion.q, motion.v, a, motion.t, first, stop,
                                  out)
+    else:
+        wave_hydro.add_residual(model.water, term, model.el_len, motion.q, motion.v, a, motion.t, first, stop, out)
 
 
 @njit(cache=True, inline="always")  # (as residual)
@@ -61,9 +74,24 @@ def tangent(term: CableHydro, model: CableModel, motion: Motion, ca: float, cv: 
     if not model.water.enabled:
         return
     ke = np.empty((12, 12))
+    still = model.water.waves.shape[0] == 0
     for e in range(model.el_len.shape[0]):
         ke[:, :] = 0.0
-        if cable_hydro.add_jacobian(model.water, term, model.el_len, motion.q, motion.v, motion.t, e, ca, cv, cq,
-                                    ke):
+        if still:
+            added = cable_hydro.add_jacobian(model.water, term, model.el_len, motion.q, motion.v, motion.t, e, ca,
+                                             cv, cq, ke)
+        else:
+            added = wave_hydro.add_jacobian(model.water, term, model.el_len, motion.q, motion.v, motion.t, e, ca,
+                                            cv, cq, ke)
+        if added:
             add_element_block(model, e, ke, ab)
+
+
+class Hooks(TermHooks):
+    """The waves' references of a time step (:mod:`.wave_quadrature`) are forgotten when a
+    run starts (a run that starts again meets the times of the last one)."""
+
+    def reset(self) -> None:
+        """Forget the references (the next residual evaluates the waves afresh)."""
+        self.term.wave_clock[0] = np.nan
 
