@@ -37,7 +37,7 @@ def child(fmu_dir: str) -> None:
 
     import numpy as np
 
-    from towcable_fmu import contract
+    from towcable_fmu.common import contract
     from towcable_fmu.cosim import FmuInstance
     from towcable_fmu.fmu_build.build import ensure_fmus
     from towcable_fmu.runtime.ship_input import motion_source

@@ -160,7 +160,7 @@ def _slaves():
 def _exchange(slaves: dict) -> tuple[dict, dict]:
     """Per slave: the value references of its connected Real inputs with where each comes
     from (source slave, its output's value reference), and of its Real outputs."""
-    from towcable_fmu import contract
+    from towcable_fmu.common import contract
 
     vr = {name: {var.name: ref for ref, var in slave.vars.items()} for name, slave in slaves.items()}
     inputs = {name: ([], []) for name in slaves}

@@ -124,7 +124,7 @@ def simulate(name: str, run: Run, duration: float, interval: float, signal: str,
     """Time ``run`` on scene ``name`` (median wall time of ``repeats`` runs, statics
     excluded) and keep its signal and statistics; a solver, scene or arithmetic error
     (a compiled kernel's division by zero) is recorded as the run's failure."""
-    from towcable_fmu.errors import TowcableError
+    from towcable_fmu.common.errors import TowcableError
     from towcable_fmu.models import simulation_from
 
     walls = []

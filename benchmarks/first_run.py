@@ -2,7 +2,7 @@
 
 Each case is a new ``towcable run SCENE --duration 1`` with an empty
 ``TOWCABLE_CACHE_DIR`` (a machine that never ran this code). It compiles the model's
-kernels ahead (:mod:`towcable_fmu.parallel_compile`) on every core the process may use,
+kernels ahead (:mod:`towcable_fmu.jit.parallel_compile`) on every core the process may use,
 and once more restricted to one core (``taskset -c 0``: the helpers inherit the
 restriction, so the kernels compile one after the other, as they did before compiling
 ahead). Reported: the compile time the command prints and the whole command's wall time.

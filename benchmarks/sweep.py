@@ -38,7 +38,7 @@ from common import RESULTS, machine_header  # noqa: E402
 
 def _kernel_files() -> dict[str, int]:
     """The compiled-kernel files of this code in the machine cache, with their sizes."""
-    from towcable_fmu.kernel_cache import kernel_folder
+    from towcable_fmu.jit.kernel_cache import kernel_folder
 
     folder = kernel_folder()
     return {str(p): p.stat().st_size for p in folder.rglob("*.nb*")} if folder.exists() else {}

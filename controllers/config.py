@@ -1,9 +1,9 @@
 """Configuration of the heave-compensation set-point algorithms W(1)-(2).
 
 :class:`SetpointConfig` is declared with the project's schema mechanism
-(:mod:`towcable_fmu.schema`): the declaration gives the validation, the typed object and
+(:mod:`towcable_fmu.common.schema`): the declaration gives the validation, the typed object and
 the scene reference's ``[compensation]`` table (``docs/reference/scene_keys.md``). It is
-validated when it is built: a bad value raises :class:`towcable_fmu.errors.SceneError`
+validated when it is built: a bad value raises :class:`towcable_fmu.common.errors.SceneError`
 naming the key (``compensation.winch_radius`` and so on), the value and what is allowed.
 :func:`setpoint_config_from_table` builds one from a TOML table (stdlib ``tomllib``) and
 rejects unknown or missing keys.
@@ -17,8 +17,8 @@ from dataclasses import InitVar, dataclass
 from functools import partial
 from typing import ClassVar
 
-from towcable_fmu.errors import SceneError
-from towcable_fmu.schema import check_fields, parse_fields, spec
+from towcable_fmu.common.errors import SceneError
+from towcable_fmu.common.schema import check_fields, parse_fields, spec
 
 #: The set-point algorithms from the ship motion (:class:`controllers.SetpointAlgorithm`).
 MOTION_ALGORITHMS: tuple[str, ...] = (
@@ -32,7 +32,7 @@ MOTION_ALGORITHMS: tuple[str, ...] = (
 #: algorithms and the constant-tension winch (:class:`controllers.TensionControl`).
 ALGORITHMS: tuple[str, ...] = MOTION_ALGORITHMS + ("constant_tension",)
 
-#: :func:`~towcable_fmu.schema.spec` of a compensation key: ranges as intervals, the
+#: :func:`~towcable_fmu.common.schema.spec` of a compensation key: ranges as intervals, the
 #: algorithms as bare names (``one of none, simplified_sheave, ...``).
 compensation_spec = partial(spec, notation="interval")
 

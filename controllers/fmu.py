@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 from pythonfmu.enums import Fmi2Status
 
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 from towcable_fmu.fmi.slave import ContractSlave, ShipStateReader
 
 from .config import SetpointConfig

@@ -25,7 +25,7 @@ import math
 import numpy as np
 from numba import carray, cfunc, types
 
-from towcable_fmu.kernel_cache import install, njit
+from towcable_fmu.jit.kernel_cache import install, njit
 
 from .setpoint import setpoint_law
 

@@ -32,8 +32,8 @@ from typing import NamedTuple
 import numpy as np
 
 from controllers.config import SetpointConfig
-from towcable_fmu.kernel_cache import njit
-from towcable_fmu.kinematics import ship_point_kinematics
+from towcable_fmu.jit.kernel_cache import njit
+from towcable_fmu.numerics.kinematics import ship_point_kinematics
 
 #: :func:`setpoint_law`'s codes of the methods (:attr:`SetpointConfig.method`).
 METHOD_CODES = {"none": 0, "sheave": 1, "waterline": 2}

@@ -1,6 +1,6 @@
 """The interface shared by all ship motion sources, and the still ship.
 
-A ship state is a (3, 6) array (see :mod:`towcable_fmu.kinematics`): row k is the
+A ship state is a (3, 6) array (see :mod:`towcable_fmu.numerics.kinematics`): row k is the
 k-th time derivative (0 value, 1 rate, 2 acceleration); the columns are x, y, z [m]
 of the ship's centre of gravity in the inertial frame (z up, origin at the mean
 waterline) and roll, pitch, yaw [rad] (R = Rz(yaw) Ry(pitch) Rx(roll); the rates are
@@ -14,7 +14,7 @@ from abc import ABC, abstractmethod
 import numpy as np
 from numpy.typing import ArrayLike
 
-from towcable_fmu.kinematics import SHIP_DOF_NAMES
+from towcable_fmu.numerics.kinematics import SHIP_DOF_NAMES
 
 #: Column order of a ship state (x, y, z, roll, pitch, yaw).
 DOF_NAMES: tuple[str, ...] = SHIP_DOF_NAMES

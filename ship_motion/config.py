@@ -1,10 +1,10 @@
 """Building a motion source from a scene file's ``[motion]`` table.
 
 The table of each ``type`` is declared once below, with the project's schema mechanism
-(:mod:`towcable_fmu.schema`): the declaration gives the validation, the typed object and
+(:mod:`towcable_fmu.common.schema`): the declaration gives the validation, the typed object and
 the scene reference's ``[motion]`` section (``docs/reference/scene_keys.md``).
 :func:`motion_from_config` validates a table (already parsed from TOML) against its
-declaration and returns the source. Errors are :class:`towcable_fmu.errors.SceneError`
+declaration and returns the source. Errors are :class:`towcable_fmu.common.errors.SceneError`
 naming the full dotted key (``motion.heave.period``), the value and the allowed range
 with units. Angles are given in degrees in the configuration and are radians inside.
 """
@@ -20,8 +20,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from towcable_fmu.errors import SceneError
-from towcable_fmu.schema import parse_variant, spec
+from towcable_fmu.common.errors import SceneError
+from towcable_fmu.common.schema import parse_variant, spec
 
 from .base import CONFIG_DOF_NAMES, IS_ANGLE, MotionSource, StillShip
 from .irregular import DEFAULT_BAND, IrregularSea
@@ -64,7 +64,7 @@ DEFAULT_SEA: dict[str, object] = {
 #: Directions of a short-crested sea when ``directions`` is not given.
 DEFAULT_DIRECTIONS = 15
 
-#: :func:`~towcable_fmu.schema.spec` of a motion key: ranges written as intervals
+#: :func:`~towcable_fmu.common.schema.spec` of a motion key: ranges written as intervals
 #: (``a finite number in [0, 20] m``).
 motion_spec = partial(spec, notation="interval")
 

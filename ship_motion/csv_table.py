@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 
 _UNIT = re.compile(r"\s*[\[(][^\])]*[\])]\s*$")
 

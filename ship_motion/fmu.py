@@ -5,7 +5,7 @@ Parameters select the source (``motion.type`` and the common numbers, whose defa
 the 18 outputs ``ship.*`` are :meth:`MotionSource.evaluate` at the start time in
 initialisation mode (as soon as the parameters are set) and after it, and at the end of
 every step. Variables, units and descriptions come
-from ``towcable_fmu/contract.toml``; build with ``python build_fmu.py``.
+from ``towcable_fmu/common/contract.toml``; build with ``python build_fmu.py``.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from towcable_fmu.builtin_scenes import builtin_scene_names, builtin_scene_text
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 from towcable_fmu.fmi.slave import ContractSlave, ship_signal_names
 
 from . import EXAMPLE_CSV, TYPES, motion_from_config

@@ -20,7 +20,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from towcable_fmu.kernel_cache import njit
+from towcable_fmu.jit.kernel_cache import njit
 
 from .base import MotionSource, as_times
 from .ramp import modulate, ramp

@@ -39,7 +39,7 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import ArrayLike
 
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 
 from .base import CONFIG_DOF_NAMES, IS_ANGLE
 from .csv_table import read_csv_table

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 
 from .spectrum import SPACINGS, WaveComponents
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from towcable_fmu.kinematics import rotation_derivatives
+from towcable_fmu.numerics.kinematics import rotation_derivatives
 
 from .base import MotionSource, as_times
 

@@ -31,7 +31,7 @@ from numpy.typing import ArrayLike
 from scipy.integrate import cumulative_trapezoid
 from scipy.interpolate import make_interp_spline
 
-from towcable_fmu.errors import SceneError, TowcableError
+from towcable_fmu.common.errors import SceneError, TowcableError
 
 from .base import MotionSource, as_times
 from .csv_table import read_csv_table

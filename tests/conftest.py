@@ -99,7 +99,7 @@ def model_kernels():
     """The ANCF and nodal-position kernels compiled once, on every core, before the first
     test needs them (as the command line does on its first run)."""
     from towcable_fmu.models import KERNEL_SOURCES
-    from towcable_fmu.parallel_compile import compile_kernels
+    from towcable_fmu.jit.parallel_compile import compile_kernels
 
     assert compile_kernels(KERNEL_SOURCES["ancf"] + KERNEL_SOURCES["nodal_position"]) == []
 

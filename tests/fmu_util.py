@@ -8,7 +8,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from towcable_fmu import contract
+from towcable_fmu.common import contract
 from towcable_fmu.cosim import FmuInstance
 
 #: Small, fast scene of the FMU tests (eight elements, pinned on the ship, towed body).

@@ -15,7 +15,7 @@ from scipy.stats import chi2
 
 import towcable_fmu
 from towcable_fmu.analysis import Ellipsoid, enclosing_ellipsoid, projected_outline
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 
 CENTRE = np.array([-469.5, 0.3, -102.8])  # m, far from the origin like a towed-body track
 

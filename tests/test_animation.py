@@ -11,7 +11,7 @@ from PIL import Image
 from towcable_fmu.animation import surface_centres, write_animation
 from towcable_fmu.cli import main
 from towcable_fmu.ancf.frames import Frames, frame_stride, run_with_frames
-from towcable_fmu.kinematics import rotation_matrix
+from towcable_fmu.numerics.kinematics import rotation_matrix
 from towcable_fmu.ancf.simulation import Simulation
 
 

@@ -12,7 +12,7 @@ import pytest
 from ship_motion import motion_from_config
 from ship_motion.rao import GRAVITY
 from ship_motion.rao_files import read_capytaine, write_wamit_4
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 
 pytest.importorskip("capytaine")
 

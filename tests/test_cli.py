@@ -12,10 +12,10 @@ import sys
 
 import pytest
 
-from towcable_fmu import contract
+from towcable_fmu.common import contract
 from towcable_fmu import cli
 from towcable_fmu.cli import main
-from towcable_fmu.run_io import Progress
+from towcable_fmu.common.run_io import Progress
 
 G = 9.81
 

@@ -136,7 +136,7 @@ def _elements_with_a_contact_end(sim) -> list[int]:
     """Elements in which a face's active length starts or ends (its indicator changes sign
     between the element's grid points)."""
     from towcable_fmu.ancf.forces.contact_quadrature import _face_quadrature, _element_points, _touching_faces
-    from towcable_fmu.kinematics import rotation_derivatives
+    from towcable_fmu.numerics.kinematics import rotation_derivatives
 
     m = sim.model
     c = m.terms.contact

@@ -18,7 +18,7 @@ from controllers import (
     SetpointConfig,
     setpoint_config_from_table,
 )
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 
 # full-scale case, W Table 8 / section 5.4
 SHEAVE = (-36.8, 0.0, 3.7)  # m, body frame

@@ -11,11 +11,11 @@ from pathlib import Path
 
 import pytest
 
-from towcable_fmu import contract
+from towcable_fmu.common import contract
 from towcable_fmu.cli import build_parser
 from towcable_fmu.docs_gen import REGENERATE, render, write_reference
 from towcable_fmu.scene.model import Scene
-from towcable_fmu.schema import describe
+from towcable_fmu.common.schema import describe
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 EXAMPLES = sorted((DOCS / "examples").glob("*.md"))
@@ -100,7 +100,7 @@ def test_worked_example_runs(example, tmp_path):
 # ------------------------------------------------------- the declarations of ship_motion and controllers
 def _motion_error(table: dict) -> str:
     from ship_motion import motion_from_config
-    from towcable_fmu.errors import SceneError
+    from towcable_fmu.common.errors import SceneError
 
     with pytest.raises(SceneError) as info:
         motion_from_config(table, key="motion")
@@ -177,7 +177,7 @@ def test_motion_key_ranges_match_the_validator():
 
 def test_compensation_key_ranges_match_the_validator():
     from controllers.config import SetpointConfig, setpoint_config_from_table
-    from towcable_fmu.errors import SceneError
+    from towcable_fmu.common.errors import SceneError
 
     base = {"algorithm": "simplified_sheave", "reference_point": [0.0, 0.0, 1.0], "winch_radius": 0.3,
             "phi_nom": 0.0, "theta_nom": 0.1}

@@ -9,7 +9,7 @@ import pytest
 from conftest import cable_scene, segment
 from scipy.optimize import brentq
 
-from towcable_fmu.errors import SceneError, SolverError
+from towcable_fmu.common.errors import SceneError, SolverError
 from towcable_fmu.ancf.reference_ivp import integrate_reference
 
 G = 9.81

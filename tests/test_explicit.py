@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from towcable_fmu.errors import SceneError, SolverError
+from towcable_fmu.common.errors import SceneError, SolverError
 from towcable_fmu.nodal.explicit import node_masses
 from towcable_fmu.nodal.simulation import NodalSimulation
 from towcable_fmu.numerics.explicit_step import SAFETY, step_limit

@@ -8,7 +8,7 @@ import zipfile
 
 import pytest
 
-from towcable_fmu import contract
+from towcable_fmu.common import contract
 from towcable_fmu.fmu_build import build
 
 
@@ -63,7 +63,7 @@ def test_contract_connections_cover_every_input_once():
     assert [c.signal for c in conns if c.delayed] == ["sheave_angle", "tension.winch"]  # the measurements
     # the ship signals are the (3, 6) ship state in row-major order
     from towcable_fmu.fmi.slave import ship_signal_names
-    from towcable_fmu.kinematics import SHIP_DOF_NAMES
+    from towcable_fmu.numerics.kinematics import SHIP_DOF_NAMES
 
     names = ship_signal_names()
     assert names[:6] == tuple(f"ship.{d}" for d in SHIP_DOF_NAMES)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from fmu_util import SMALL_SCENE
-from towcable_fmu import contract
+from towcable_fmu.common import contract
 from towcable_fmu.cosim import CosimConfig, run_cosim
 
 WAVES = """type = "regular"

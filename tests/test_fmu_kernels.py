@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 from test_fmu_portable import build_machine_paths, clean_env
 
-from towcable_fmu import machine_cache
+from towcable_fmu.jit import machine_cache
 from towcable_fmu.fmu_build import build, kernels
 
 TARGET = machine_cache.CARRIED_TARGET

@@ -22,8 +22,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from towcable_fmu import contract
-from towcable_fmu.run_io import read_csv
+from towcable_fmu.common import contract
+from towcable_fmu.common.run_io import read_csv
 from towcable_fmu.fmu_build import crosscheck as xc
 from towcable_fmu.fmu_build import native
 

@@ -23,7 +23,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from towcable_fmu import contract, machine_cache
+from towcable_fmu.common import contract
+from towcable_fmu.jit import machine_cache
 from towcable_fmu.fmu_build import bundle, build
 from towcable_fmu.fmu_build import crosscheck as xc
 
@@ -57,7 +58,7 @@ def test_imports_are_rewritten_line_for_line():
 
 
         def f():
-            from towcable_fmu.errors import SceneError  # a late import
+            from towcable_fmu.common.errors import SceneError  # a late import
             return SceneError
         """)
     out = bundle.rewrite_imports(source, "towcable_x")
@@ -65,7 +66,7 @@ def test_imports_are_rewritten_line_for_line():
     assert out.splitlines()[2] == "from towcable_x.ship_motion import (DEFAULT_SEA,"
     assert out.splitlines()[4] == "import towcable_x.controllers.setpoint as sp"
     assert out.splitlines()[5] == "from .errors import SceneError"
-    assert out.splitlines()[9].strip().startswith("from towcable_x.towcable_fmu.errors import")
+    assert out.splitlines()[9].strip().startswith("from towcable_x.towcable_fmu.common.errors import")
     assert len(out.splitlines()) == len(source.splitlines())
     with pytest.raises(bundle.BundleError, match="cannot be bundled"):
         bundle.rewrite_imports("import towcable_fmu.scene\n", "towcable_x")
@@ -154,7 +155,7 @@ def test_outputs_are_calculated_initial_unknowns_and_parameters_fixed_with_their
 
 # ------------------------------------------------- the declared ranges are the models'
 def _rejects(check, value) -> bool:
-    from towcable_fmu.errors import SceneError
+    from towcable_fmu.common.errors import SceneError
 
     try:
         check(value)

@@ -17,7 +17,7 @@ from fmpy.fmi1 import FMICallException
 from fmu_misuse import envelope
 from fmu_util import SMALL_SCENE, all_finite, open_fmu, outputs, set_inputs, ship_inputs
 
-from towcable_fmu import contract
+from towcable_fmu.common import contract
 
 DISCARD, ERROR = 2, 3
 

@@ -23,11 +23,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from towcable_fmu import contract, machine_cache
+from towcable_fmu.common import contract
+from towcable_fmu.jit import machine_cache
 from towcable_fmu.fmu_build import crosscheck as xc
 from towcable_fmu.fmu_build import native
 from towcable_fmu.fmu_build.runtime import glibc_needed
-from towcable_fmu.run_io import read_csv
+from towcable_fmu.common.run_io import read_csv
 
 from test_fmu_native import assert_round_off, write_plan
 

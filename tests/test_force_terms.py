@@ -67,7 +67,7 @@ def test_the_assembly_names_no_term():
     source = (ROOT / "towcable_fmu/ancf/system.py").read_text(encoding="utf-8")
     tree = ast.parse(source)
     imported = {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
-    assert imported == {"__future__", "kernel_cache", "numerics.banded", "axial", "forces", "model"}
+    assert imported == {"__future__", "jit.kernel_cache", "numerics.banded", "axial", "forces", "model"}
     names = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)} | \
         {n.attr for n in ast.walk(tree) if isinstance(n, ast.Attribute)}
     assert not names & ({t.NAME for t in forces.TERMS} | {"contact", "hydro", "body", "rigid", "load", "wake"})
@@ -91,7 +91,7 @@ def test_the_simulation_names_no_term(module):
 def test_the_terms_declare_outputs_of_the_contract():
     """Every output a term's hooks declare is a signal of the contract; a term with an
     output outside the compiled kernel computes it in Python (its hooks' ``values``)."""
-    from towcable_fmu import contract
+    from towcable_fmu.common import contract
     from towcable_fmu.ancf.forces.hooks import TermHooks
     from towcable_fmu.ancf.output_kernel import OUTPUT_FIELDS
 

@@ -12,8 +12,17 @@ from scipy.optimize import brentq
 
 from reference import steady_tow as ref_tow
 from towcable_fmu.ancf.system import iteration_matrix, residual
-from towcable_fmu.hydro.loading import (BARE, FAIRED, NORMAL_TANGENTIAL, SUN_BARE, SUN_FAIRED, drag_coefficient,
-                                        drag_coefficient_slope, loading_functions, loading_slopes)
+from towcable_fmu.hydro.loading import (
+    BARE,
+    FAIRED,
+    NORMAL_TANGENTIAL,
+    SUN_BARE,
+    SUN_FAIRED,
+    drag_coefficient,
+    drag_coefficient_slope,
+    loading_functions,
+    loading_slopes,
+)
 from towcable_fmu.hydro.turbulence import TurbulenceSeries
 from towcable_fmu.scene import scene_from_table
 from towcable_fmu.scene.model import Turbulence

@@ -1,4 +1,4 @@
-"""The machine's kernel cache (towcable_fmu.kernel_cache): keyed by the kernels' sources,
+"""The machine's kernel cache (towcable_fmu.jit.kernel_cache): keyed by the kernels' sources,
 compiled at initialisation and never in the middle of a run, found again by a new process."""
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from towcable_fmu import kernel_cache
-from towcable_fmu.machine_cache import PACKAGES
+from towcable_fmu.jit import kernel_cache
+from towcable_fmu.jit.machine_cache import PACKAGES
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -83,7 +83,7 @@ def test_a_kernel_numba_cannot_cache_warns_and_runs(tmp_path, monkeypatch):
 
     from numba.core.errors import NumbaWarning
 
-    from towcable_fmu.kernel_cache import njit
+    from towcable_fmu.jit.kernel_cache import njit
 
     monkeypatch.setenv("TOWCABLE_CACHE_DIR", str(tmp_path))
     libm = ctypes.CDLL(None)
@@ -104,12 +104,12 @@ def test_importing_the_package_does_no_work_and_a_kernel_module_installs_the_loc
     first kernel module imported puts our cache locator first and registers the watch."""
     code = textwrap.dedent("""
         import sys
-        import towcable_fmu, towcable_fmu.scene, towcable_fmu.contract
+        import towcable_fmu, towcable_fmu.scene, towcable_fmu.common.contract
         assert "numba" not in sys.modules, "numba imported"
         from towcable_fmu.ancf import system
         from numba.core import caching
         impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl
-        from towcable_fmu.kernel_cache import KernelCacheLocator
+        from towcable_fmu.jit.kernel_cache import KernelCacheLocator
         assert impl._locator_classes[0] is KernelCacheLocator
         assert type(system.residual._cache._impl.locator) is KernelCacheLocator
         print("ok")

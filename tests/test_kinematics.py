@@ -1,4 +1,4 @@
-"""Ship rigid-body kinematics, W(24)-(25) (`towcable_fmu.kinematics`).
+"""Ship rigid-body kinematics, W(24)-(25) (`towcable_fmu.numerics.kinematics`).
 
 Checked independently of the code under test:
 
@@ -19,11 +19,7 @@ import math
 import numpy as np
 import pytest
 
-from towcable_fmu.kinematics import (
-    rotation_derivatives,
-    rotation_matrix,
-    ship_point_kinematics,
-)
+from towcable_fmu.numerics.kinematics import rotation_derivatives, rotation_matrix, ship_point_kinematics
 
 
 def rx(a):

@@ -21,10 +21,9 @@ COMMAND_LINE = ("towcable_fmu.cli", "towcable_fmu.sweep.cli")
 #: The folders from the bottom up; a folder imports only from the layers below its own
 #: (folders of one layer do not import each other).
 LAYERS = (
-    ("towcable_fmu", "towcable_fmu.machine_cache", "towcable_fmu.errors", "towcable_fmu.contract",
-     "towcable_fmu.run_io", "towcable_fmu.builtin_scenes"),
-    ("towcable_fmu.kernel_cache", "towcable_fmu.plots", "towcable_fmu.schema"),
-    ("towcable_fmu.parallel_compile", "towcable_fmu.kinematics", "towcable_fmu.numerics"),
+    ("towcable_fmu", "towcable_fmu.common", "towcable_fmu.builtin_scenes"),
+    ("towcable_fmu.jit",),
+    ("towcable_fmu.numerics",),
     ("towcable_fmu.fmi",),
     ("ship_motion", "controllers"),
     ("towcable_fmu.scene",),
@@ -202,7 +201,7 @@ def test_folders_import_only_downward():
 
 #: Below the scene package (issue 38): the ship motion, the controllers, the FMI runtime
 #: base of the slaves, the schema mechanism, the errors and the built-in scene files.
-BELOW_THE_SCENE = ("ship_motion", "controllers", "towcable_fmu.fmi", "towcable_fmu.schema", "towcable_fmu.errors",
+BELOW_THE_SCENE = ("ship_motion", "controllers", "towcable_fmu.fmi", "towcable_fmu.common.schema", "towcable_fmu.common.errors",
                    "towcable_fmu.builtin_scenes")
 
 
@@ -234,8 +233,8 @@ def test_numerics_knows_no_formulation():
     """The solvers in numerics/ (the generalised-alpha scheme, the banded LU, the explicit
     step) receive a model's residual and matrix and import no formulation package, not even
     through another module. The check can fail: an import of the ANCF model two modules away."""
-    fake = {"towcable_fmu.numerics.scheme": {"towcable_fmu.kernel_cache"},
-            "towcable_fmu.kernel_cache": {"towcable_fmu.ancf.model"}, "towcable_fmu.ancf.model": set()}
+    fake = {"towcable_fmu.numerics.scheme": {"towcable_fmu.jit.kernel_cache"},
+            "towcable_fmu.jit.kernel_cache": {"towcable_fmu.ancf.model"}, "towcable_fmu.ancf.model": set()}
     assert formulations_reached_from(fake, "towcable_fmu.numerics") == [
         ("towcable_fmu.numerics.scheme", "towcable_fmu.ancf.model")]
     assert formulations_reached_from(import_graph(), "towcable_fmu.numerics") == []

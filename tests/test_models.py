@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from towcable_fmu import contract
+from towcable_fmu.common import contract
 from towcable_fmu.models import model_kind, simulation_from
 from towcable_fmu.scene import load_scene
 

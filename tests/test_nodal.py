@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 from towcable_fmu.nodal.simulation import NodalSimulation
 from towcable_fmu.scene import load_scene
 from towcable_fmu.ancf.simulation import Simulation

@@ -1,4 +1,4 @@
-"""Compiling ahead on every core (towcable_fmu.parallel_compile): the plan respects the
+"""Compiling ahead on every core (towcable_fmu.jit.parallel_compile): the plan respects the
 kernels' call graph, a run afterwards compiles nothing, and a failing job costs only time."""
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from pathlib import Path
 import numba
 import pytest
 
-from towcable_fmu.parallel_compile import Job, compile_kernels, plan
+from towcable_fmu.jit.parallel_compile import Job, compile_kernels, plan
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -116,7 +116,7 @@ def test_a_job_that_fails_to_compile_is_reported_and_the_others_are_done(tmp_pat
     (tmp_path / "some_jobs.py").write_text(textwrap.dedent("""
         import numpy as np
         from numba import njit
-        from towcable_fmu.parallel_compile import Job
+        from towcable_fmu.jit.parallel_compile import Job
 
         @njit(cache=True)
         def good(x):
@@ -145,7 +145,7 @@ def test_a_helper_that_dies_is_not_waited_for(tmp_path, monkeypatch):
     (tmp_path / "dying_jobs.py").write_text(textwrap.dedent("""
         import os
         from numba import njit
-        from towcable_fmu.parallel_compile import Job
+        from towcable_fmu.jit.parallel_compile import Job
 
         @njit(cache=True)
         def first(x):

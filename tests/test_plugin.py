@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[1]
 #: The files the guide (docs/extending.md) lists for a term with an output and a state of
 #: its own, and that this test edits; nothing else.
 GUIDE_FILES = ("towcable_fmu/ancf/forces/pull.py", "towcable_fmu/ancf/forces/__init__.py",
-               "towcable_fmu/scene/model.py", "towcable_fmu/contract.toml")
+               "towcable_fmu/scene/model.py", "towcable_fmu/common/contract.toml")
 
 PULL_MODULE = '''"""Force term: a constant pull on the cable's last node (a test's throw-away term)."""
 
@@ -37,7 +37,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from ...kernel_cache import njit
+from ...jit.kernel_cache import njit
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
 from .hooks import TermHooks
@@ -124,7 +124,7 @@ import json, sys
 import numpy as np
 import towcable_fmu
 from towcable_fmu.ancf.simulation import Simulation
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 from towcable_fmu.nodal.model import check_scene
 from towcable_fmu.scene import load_scene
 

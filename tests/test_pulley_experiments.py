@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 from towcable_fmu.scene import load_scene
 from towcable_fmu.ancf.simulation import Simulation
 

@@ -17,8 +17,8 @@ import pytest
 from ship_motion import ClosedFormRao, IrregularSea, Jonswap, RaoTable, motion_from_config
 from ship_motion.rao import GRAVITY
 from ship_motion.rao_files import SourceFrame, move_to_cg, read_orcaflex, read_wamit_4
-from towcable_fmu.errors import SceneError
-from towcable_fmu.kinematics import rotation_matrix
+from towcable_fmu.common.errors import SceneError
+from towcable_fmu.numerics.kinematics import rotation_matrix
 
 OMEGA = np.linspace(0.3, 2.0, 35)
 HEADINGS_DEG = np.arange(0.0, 360.0, 15.0)

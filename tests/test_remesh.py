@@ -9,8 +9,14 @@ import pytest
 from towcable_fmu.ancf import element
 from towcable_fmu.ancf.mesh import build_mesh
 from towcable_fmu.ancf.model import Mesh
-from towcable_fmu.ancf.remesh import merge_coordinates, merge_defect, merge_mesh, split_coordinates, split_mesh
-from towcable_fmu.errors import SceneError
+from towcable_fmu.ancf.remesh import (
+    merge_coordinates,
+    merge_defect,
+    merge_mesh,
+    split_coordinates,
+    split_mesh,
+)
+from towcable_fmu.common.errors import SceneError
 from towcable_fmu.ancf.simulation import Simulation
 
 

@@ -25,7 +25,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 from towcable_fmu.nodal.simulation import NodalSimulation
 from towcable_fmu.scene import load_scene
 from towcable_fmu.scene.loader import scene_from_table
@@ -338,7 +338,7 @@ def test_command_line_static_and_run(tmp_path, capsys):
 def test_a_body_towed_backwards_flips_and_the_error_names_the_singularity(formulation):
     """Tow point downstream of the CG (current along the body's +x): the body turns
     round, through pitch -pi/2, where its Euler angles are singular: a clear error."""
-    from towcable_fmu.errors import SolverError
+    from towcable_fmu.common.errors import SolverError
     from towcable_fmu.models import simulation_for
 
     table = _tow_table()

@@ -16,7 +16,7 @@ import pytest
 from reference.catenary import solve_elastic_catenary
 
 from towcable_fmu.cli import main
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 from towcable_fmu.rigidlink.dynamics import accelerations, end_tensions, link_forces
 from towcable_fmu.scene.rigid_link import Thrust
 from towcable_fmu.rigidlink.simulation import RigidLinkSimulation

@@ -9,16 +9,16 @@ import numpy as np
 import pytest
 
 from towcable_fmu.cli import main
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 from towcable_fmu.models import simulation_from
 from towcable_fmu.rope_life import bending, extremes, tension_fatigue
 from towcable_fmu.rope_life.assessment import assess, scene_rope
 from towcable_fmu.rope_life.rope_data import TN_CURVES, cycles_to_failure, intercept_at_mean_load, tn_curve
 from towcable_fmu.rope_life.rope_data import bending_cycles_to_discard as rope_data_bending
-from towcable_fmu.run_io import read_csv, write_csv
+from towcable_fmu.common.run_io import read_csv, write_csv
 from towcable_fmu.scene import load_scene
 from towcable_fmu.scene.model import Rope
-from towcable_fmu.schema import parse
+from towcable_fmu.common.schema import parse
 from towcable_fmu.sweep.case import _rope, run_case, simulate
 from towcable_fmu.sweep.long_term import long_term_damage
 from towcable_fmu.sweep.spec import SpecError, load_spec, spec_from_table

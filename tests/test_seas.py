@@ -13,7 +13,7 @@ from ship_motion import ClosedFormRao, IrregularSea, Jonswap, motion_from_config
 from ship_motion.rao import GRAVITY
 from ship_motion.spectrum import OchiHubble, Torsethaugen
 from ship_motion.spreading import Cos2s
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 
 
 @pytest.mark.parametrize("shape, swell_shape", [(1.0, 1.0), (2.5, 0.7), (0.6, 4.0)])

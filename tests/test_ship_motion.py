@@ -32,7 +32,7 @@ from ship_motion import (
 )
 from ship_motion.ramp import smoothstep_integral
 from ship_motion.rao import GRAVITY
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 
 DEG = math.pi / 180.0
 

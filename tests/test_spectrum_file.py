@@ -10,7 +10,7 @@ import xarray as xr
 
 from ship_motion import ClosedFormRao, motion_from_config
 from ship_motion.spectrum_file import read_wavespectra
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 
 pytest.importorskip("wavespectra")
 

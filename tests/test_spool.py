@@ -12,7 +12,7 @@ import pytest
 
 from towcable_fmu.ancf import element
 from towcable_fmu.ancf.feed import MERGE_FACTOR, SPLIT_FACTOR, apply_feed, material_rates, material_rows
-from towcable_fmu.errors import SceneError, SolverError
+from towcable_fmu.common.errors import SceneError, SolverError
 from towcable_fmu.ancf.simulation import Simulation
 
 SCENE = str(Path(__file__).parent / "data" / "spool_hanging.toml")

@@ -13,7 +13,7 @@ from importlib import resources
 import pytest
 
 from towcable_fmu.ancf.simulation import MODELLED_TABLES
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 from towcable_fmu.nodal.model import check_scene
 from towcable_fmu.runtime.tables import DATA_TABLES, optional_tables, reject_unmodelled
 from towcable_fmu.scene import load_scene

@@ -14,7 +14,7 @@ from fmpy.fmi1 import FMICallException
 from fmu_util import open_fmu, outputs, set_inputs
 
 from controllers import SetpointConfig, TensionControl, setpoint_config_from_table
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 from towcable_fmu.ancf.simulation import Simulation
 
 R_W = 0.30  # drum radius to the cable centreline [m]
@@ -250,7 +250,7 @@ def test_an_unstable_tension_loop_stops_at_the_drum_instead_of_running_away():
     ~ 75 rad/s against a 10 ms control interval) makes the payout diverge; the run stops
     with an error naming winch.payout and the gain as soon as the payout passes the cable
     wound on the drum, instead of reeling out kilometres of cable the drum does not have."""
-    from towcable_fmu.errors import SolverError
+    from towcable_fmu.common.errors import SolverError
 
     sim = Simulation.from_scene("full_scale", {"compensation.algorithm": "constant_tension",
                                                "compensation.tension_target": 3951.4,
@@ -261,7 +261,7 @@ def test_an_unstable_tension_loop_stops_at_the_drum_instead_of_running_away():
 
 
 def test_a_step_beyond_the_drum_is_refused_and_changes_nothing():
-    from towcable_fmu.errors import SolverError
+    from towcable_fmu.common.errors import SolverError
 
     sim = Simulation.from_scene("full_scale", {"compensation.algorithm": "none"})
     start = sim.initialize()

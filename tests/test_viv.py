@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from towcable_fmu.scene import load_scene
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 from towcable_fmu.ancf.simulation import Simulation
 from towcable_fmu.viv import limit_cycle_amplitude, strouhal_frequency
 from towcable_fmu.ancf.viv_loads import force_factors, interpolation_table

@@ -188,7 +188,7 @@ def test_no_components_no_waves():
 def test_scene_keys_bad_input():
     """waves asked for with no sea, on a formulation without waves, and bad values: errors
     naming the key."""
-    from towcable_fmu.errors import SceneError
+    from towcable_fmu.common.errors import SceneError
     from towcable_fmu.scene import load_scene
 
     with pytest.raises(SceneError, match="water.waves.*irregular"):

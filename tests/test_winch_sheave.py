@@ -11,7 +11,7 @@ from conftest import cable_scene, segment
 
 from towcable_fmu.ancf.mesh import winch_radius
 from towcable_fmu.contact.surfaces import WINCH, face_force
-from towcable_fmu.kinematics import rotation_matrix
+from towcable_fmu.numerics.kinematics import rotation_matrix
 from towcable_fmu.scene import scene_from_table
 from towcable_fmu.ancf.simulation import Simulation
 

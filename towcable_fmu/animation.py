@@ -19,7 +19,7 @@ from matplotlib.animation import FuncAnimation, PillowWriter  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 
 from .ancf.frames import Frames  # noqa: E402
-from .kinematics import rotation_matrix  # noqa: E402
+from .numerics.kinematics import rotation_matrix  # noqa: E402
 from .scene.model import Scene  # noqa: E402
 
 

@@ -11,7 +11,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from . import contract
+from .common import contract
 from .fmu_build.build import FmuCheckError, build_fmus, check_fmus
 from .fmu_build.runtime import glibc_needed
 

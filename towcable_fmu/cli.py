@@ -14,10 +14,11 @@ import time
 from pathlib import Path
 from typing import Sequence
 
-from . import contract, kernel_cache
-from .errors import TowcableError
+from .common import contract
+from .jit import kernel_cache
+from .common.errors import TowcableError
 from .models import KERNEL_SOURCES, model_kind, simulation_for
-from .run_io import Progress, write_csv
+from .common.run_io import Progress, write_csv
 from .scene import builtin_scene_names, load_scene, parse_override
 
 
@@ -38,7 +39,7 @@ COSIM_KERNEL_SOURCES = ("towcable_fmu.runtime.input_kernels", "towcable_fmu.cosi
 def _compile_kernels(kind: str, extra: tuple[str, ...] = ()) -> None:
     """Compile the kernels of a model kind (and of the modules ``extra``) on every core if
     they are not cached yet."""
-    from .parallel_compile import compile_ahead
+    from .jit.parallel_compile import compile_ahead
 
     compile_ahead(KERNEL_SOURCES.get(kind, ()) + extra)
 
@@ -75,7 +76,7 @@ def cmd_static(args: argparse.Namespace) -> int:
 
 def _plot_contact(sim, out: dict, path: Path, label: str) -> None:
     """The static contact force distribution of a scene with a winch or a sheave."""
-    from .plots import plot_contact_distribution
+    from .common.plots import plot_contact_distribution
 
     scene = sim.scene
     if model_kind(scene) != "ancf" or (scene.winch is None and scene.sheave is None):
@@ -109,7 +110,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     output.parent.mkdir(parents=True, exist_ok=True)
     write_csv(output, series)
     if args.plot:
-        from .plots import plot_run
+        from .common.plots import plot_run
 
         plot_run(series, Path(args.plot), title=f"{args.scene}: {sim.scene.title}")
     if args.animate:
@@ -172,7 +173,7 @@ def cmd_fatigue(args: argparse.Namespace) -> int:
     """Rope life of recorded runs: tension damage, bending along the rope, extremes."""
     from .rope_life.assessment import assess
     from .rope_life.report import write_report
-    from .run_io import read_csv
+    from .common.run_io import read_csv
 
     scene = load_scene(args.scene, _overrides(args.set))
     try:

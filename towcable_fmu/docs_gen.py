@@ -1,11 +1,11 @@
 """Reference documentation generated from the code, so that it cannot drift.
 
 Three Markdown files: every scene key of every model (from the declarations that also
-validate them, through :func:`towcable_fmu.schema.describe`: the scene's in
+validate them, through :func:`towcable_fmu.common.schema.describe`: the scene's in
 :mod:`towcable_fmu.scene.model` and :mod:`towcable_fmu.scene.rigid_link`, the
 ``[motion]`` table's in :mod:`ship_motion.config`, the ``[compensation]`` table's in
 :mod:`controllers.config`), every FMU variable and connection (from the variable
-contract, :mod:`towcable_fmu.contract`), and the command line (from the argument parser
+contract, :mod:`towcable_fmu.common.contract`), and the command line (from the argument parser
 of :mod:`towcable_fmu.cli`).
 
 Regenerate with ``towcable docs --output docs/reference``; a test compares the committed
@@ -18,9 +18,9 @@ import argparse
 from pathlib import Path
 from typing import Iterable, Sequence
 
-from . import contract
+from .common import contract
 from .scene.model import Scene
-from .schema import describe, describe_variants
+from .common.schema import describe, describe_variants
 
 #: The command that regenerates the committed reference (quoted in every file).
 REGENERATE = "towcable docs --output docs/reference"
@@ -160,7 +160,7 @@ def _start(value: object) -> str:
 
 def fmu_variables_markdown() -> str:
     """Every signal, every FMU's parameters, inputs and outputs, and the connections."""
-    lines = _header("FMU variables", "the variable contract (towcable_fmu/contract.toml)")
+    lines = _header("FMU variables", "the variable contract (towcable_fmu/common/contract.toml)")
     lines += ["Names, units and descriptions are those written into each FMU's `modelDescription.xml`; the "
               "command line (`towcable static --json`, `towcable run` CSV columns) uses the same names. "
               "Within an FMU the value references follow the order of the tables below: parameters, inputs, "

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 from pythonfmu.enums import Fmi2Status
 
-from .errors import SceneError
+from .common.errors import SceneError
 from .models import model_kind, simulation_for
 from .fmi.slave import ContractSlave, ShipStateReader, ship_signal_names
 from .scene import load_scene, parse_overrides

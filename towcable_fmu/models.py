@@ -20,7 +20,7 @@ def model_kind(scene: Any) -> str:
 
 
 #: Modules listing each model's kernels (``kernel_jobs()``, see
-#: :mod:`towcable_fmu.parallel_compile`); a model not listed compiles as it runs.
+#: :mod:`towcable_fmu.jit.parallel_compile`); a model not listed compiles as it runs.
 KERNEL_SOURCES = {"ancf": ("towcable_fmu.ancf.simulation_kernels", "towcable_fmu.runtime.input_kernels"),
                   "nodal_position": ("towcable_fmu.nodal.simulation_kernels", "towcable_fmu.runtime.input_kernels")}
 

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 
 
 def assemble_grid(omega: np.ndarray, heading: np.ndarray, dof: np.ndarray, h: np.ndarray, lines: np.ndarray,

@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 
 from ..rao import RaoTable
 from .conventions import SourceFrame, from_modulus_phase, mirror_half_range, move_to_cg

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from towcable_fmu.errors import SceneError
+from towcable_fmu.common.errors import SceneError
 
 from ..rao import RaoTable
 from .conventions import SourceFrame, mirror_half_range, move_to_cg

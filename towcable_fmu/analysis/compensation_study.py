@@ -37,7 +37,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from ..errors import SceneError
+from ..common.errors import SceneError
 from .ellipsoid import Ellipsoid, enclosing_ellipsoid, projected_outline
 
 #: Algorithms compared by default.
@@ -205,7 +205,7 @@ def run_study(algorithms: Sequence[str] = DEFAULT_ALGORITHMS, duration: float = 
         No algorithm, a repeated algorithm, ``settle`` outside [0, duration) or
         ``fraction`` outside (0, 1].
     """
-    from ..run_io import Progress
+    from ..common.run_io import Progress
     from ..cosim import CosimConfig, run_cosim
 
     if not algorithms or len(set(algorithms)) != len(algorithms):

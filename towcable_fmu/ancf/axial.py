@@ -29,7 +29,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 
 _TINY = 1e-300
 

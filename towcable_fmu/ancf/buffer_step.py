@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from .genalpha import CLOCK_TIME
 from .output_kernel import OUTPUT_FIELDS
 from .stepper import save_state, step_to

@@ -52,7 +52,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from .element import shape_derivatives, shape_functions, shape_second_derivatives
 
 #: the fed element is split when it reaches this many nominal element lengths (into the

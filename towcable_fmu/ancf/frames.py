@@ -16,7 +16,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import SceneError
+from ..common.errors import SceneError
 from .simulation import Simulation
 from ..runtime.sampling import output_interval
 

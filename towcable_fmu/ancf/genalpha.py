@@ -67,7 +67,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from .feed import apply_feed, feed_event
 from .prescribed import apply_prescribed
 from .model import TAUT_MATRIX, TAUT_RESIDUAL, CableModel
@@ -469,7 +469,7 @@ def _restore(st, ws):
 
 
 # A kernel of its own (not IR-inlined into towcable_fmu.ancf.output_kernel.advance_recording):
-# the first run compiles it in parallel with the output kernel (towcable_fmu.parallel_compile).
+# the first run compiles it in parallel with the output kernel (towcable_fmu.jit.parallel_compile).
 @njit(cache=True)
 def advance(model: CableModel, opt: SolverOptions, st: IntegratorState, ws: Workspace, t_end: float,
             drive_t: np.ndarray, drive_x: np.ndarray, one_step: bool) -> int:

@@ -14,7 +14,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kinematics import rotation_matrix
+from ..numerics.kinematics import rotation_matrix
 from ..hydro.rigid_body import hanging_coordinates
 from ..scene.model import Scene
 from . import initial_shape

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from .axial import at_length, axial_strains, axial_work, energy_of_strain, tension_of_strain
 from .model import CableModel
 from .system import residual_span

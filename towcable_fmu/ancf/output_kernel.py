@@ -15,14 +15,14 @@ from typing import Iterable, NamedTuple
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from .measures import element_tension, point_on_cable, summary
 from .model import CableModel
 from .forces.contact import elements
 from .forces.contact_quadrature import new_summary, surface_summary
 from ..contact.surfaces import SHEAVE, WINCH
 from ..hydro.towbody import body_force
-from ..kinematics import rotation_matrix
+from ..numerics.kinematics import rotation_matrix
 from ..hydro.rigid_body import angular_kinematics, tow_point_state
 from .feed import apply_feed
 from .prescribed import apply_prescribed
@@ -125,7 +125,7 @@ def _departure_angle(ux: float, uz: float) -> float:
 
 # A kernel of its own, called by advance_recording (Simulation reads the outputs of a state
 # through that): the first run compiles it in parallel with the integrator
-# (towcable_fmu.parallel_compile).
+# (towcable_fmu.jit.parallel_compile).
 @njit(cache=True)
 def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, phi: np.ndarray, t: float,
                   ship: np.ndarray, scene: OutputScene, r: np.ndarray) -> np.ndarray:

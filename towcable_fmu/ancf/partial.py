@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 
 
 # Scalars only: a plain kernel (LLVM inlines it), not IR-inlined at each of its many call sites.

@@ -25,8 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernel_cache import njit
-from ..kinematics import rotation_derivatives
+from ..jit.kernel_cache import njit
+from ..numerics.kinematics import rotation_derivatives
 
 FIXED_POINT = 0
 SHIP_POINT = 1

@@ -29,7 +29,7 @@ from scipy.linalg import solve_banded
 
 from .prescribed import apply_prescribed
 from .system import iteration_matrix, residual
-from ..errors import SolverError
+from ..common.errors import SolverError
 from ..numerics.banded import band_storage
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import SceneError
+from ..common.errors import SceneError
 from . import genalpha
 from .feed import apply_feed
 from .model import TAUT_RESIDUAL, Mesh

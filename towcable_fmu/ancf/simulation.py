@@ -24,7 +24,7 @@ from .mesh import build_mesh, build_model
 from .model import CableModel, Mesh
 from .compensation_setup import compensation_config, compensation_table
 from .output_kernel import CABLE_OUTPUTS, OUTPUT_FIELDS, OutputLayout, OutputScene, Recording, advance_recording
-from ..errors import SceneError, SolverError
+from ..common.errors import SceneError, SolverError
 from ..hydro.turbulence import TurbulenceSeries
 from ..hydro.water import still_water
 from . import genalpha

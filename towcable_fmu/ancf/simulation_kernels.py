@@ -1,11 +1,11 @@
-"""The kernels an ANCF simulation runs, as jobs for :mod:`towcable_fmu.parallel_compile`.
+"""The kernels an ANCF simulation runs, as jobs for :mod:`towcable_fmu.jit.parallel_compile`.
 
 The arguments are those :class:`~towcable_fmu.ancf.simulation.Simulation` passes (the same
 calls: initial accelerations, statics, the recording loop). The model's numba types do
 not depend on the scene (every array is float64 or intp, C-ordered, the force terms the
 same tuples whether enabled or not), so one reference scene's arguments compile the
 kernels of every ANCF scene; tests/test_parallel_compile.py checks that a run after
-:func:`~towcable_fmu.parallel_compile.compile_kernels` compiles nothing.
+:func:`~towcable_fmu.jit.parallel_compile.compile_kernels` compiles nothing.
 """
 
 from __future__ import annotations
@@ -23,11 +23,11 @@ from .forces import contact_quadrature as cable_contact
 from ..runtime.drive import evaluate_drive
 from .forces import hydro_quadrature as cable_hydro
 from .forces import wave_quadrature as wave_hydro
-from ..kinematics import rotation_derivatives, rotation_matrix, ship_point_kinematics
+from ..numerics.kinematics import rotation_derivatives, rotation_matrix, ship_point_kinematics
 from . import genalpha
 from ..numerics.banded import band_lu, band_positive_pivots, band_solve
 from .output_kernel import Recording, advance_recording, output_values
-from ..parallel_compile import Job
+from ..jit.parallel_compile import Job
 from ..hydro.rigid_body import tow_point_state
 from .simulation import _ALL_OUTPUTS, _NO_DRIVE, Simulation
 from .stepper import new_stepper, save_state, step_to

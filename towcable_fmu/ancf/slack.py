@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from .axial import at_length, axial_strains, axial_work
 from .model import CableModel
 

@@ -27,7 +27,7 @@ from .feed import apply_feed
 from .prescribed import apply_prescribed
 from .model import CableModel
 from .system import iteration_matrix, residual
-from ..errors import SolverError
+from ..common.errors import SolverError
 from ..numerics.banded import band_lu, band_positive_pivots, band_solve, band_storage
 
 

@@ -20,7 +20,7 @@ from numba import types
 from numba.core.extending import overload
 from numba.experimental import structref
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from ..numerics.arrays import copy_into
 from .output_kernel import Recording, advance_recording
 

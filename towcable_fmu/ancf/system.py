@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from ..numerics.banded import band_add_block
 from .axial import at_length, axial_force, axial_tangent, axial_work
 from .forces import add_residuals, add_tangents

@@ -24,7 +24,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ..errors import SceneError
+from ..common.errors import SceneError
 from .model import CableModel, Mesh
 from ..scene.model import Viv
 from .viv_loads import add_generalised, force_factors, interpolation_table, nodal_forces

@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from . import element
 
 

@@ -49,7 +49,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 
 CYLINDER = 0
 WALL_PLUS = 1

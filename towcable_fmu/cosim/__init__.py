@@ -3,7 +3,7 @@
 The three FMUs (built by ``build_fmu.py`` / :func:`towcable_fmu.fmu_build.build.ensure_fmus`)
 are driven with ``fmpy.fmi2.FMU2Slave`` at a fixed communication step ``h``. Which
 output feeds which input comes from the contract (``[system]`` in
-``towcable_fmu/contract.toml``); nothing here names a signal except for plotting.
+``towcable_fmu/common/contract.toml``); nothing here names a signal except for plotting.
 
 Order at each communication point t_k (documented contract, tested):
 

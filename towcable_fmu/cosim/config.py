@@ -102,7 +102,7 @@ def compensation_geometry(scene, config: CosimConfig) -> dict[str, Any]:
     SceneError
         A compensation other than 'none' for a scene without a winch.
     """
-    from ..errors import SceneError
+    from ..common.errors import SceneError
     from ..ancf.compensation_setup import compensation_config, compensation_table
 
     # a rigid-link (tug-tow) scene has no [compensation], [winch], [sheave] or [motion]

@@ -11,8 +11,8 @@ from typing import Any, Callable, Iterable, Mapping
 
 import numpy as np
 
-from .. import contract
-from ..errors import TowcableError
+from ..common import contract
+from ..common.errors import TowcableError
 
 
 class CosimError(TowcableError, RuntimeError):

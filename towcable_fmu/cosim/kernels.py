@@ -1,5 +1,5 @@
 """The master's stepping loop (:mod:`towcable_fmu.cosim.loop`) as jobs for
-:mod:`towcable_fmu.parallel_compile`.
+:mod:`towcable_fmu.jit.parallel_compile`.
 
 ``towcable cosim`` compiles them ahead with the cable's kernels and the inputs' (the
 light FMUs' models, :mod:`towcable_fmu.runtime.input_kernels`), so that a first run
@@ -14,8 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import contract
-from ..parallel_compile import Job
+from ..common import contract
+from ..jit.parallel_compile import Job
 from . import loop
 
 

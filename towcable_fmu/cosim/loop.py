@@ -31,7 +31,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 
 #: ``fmi2Status (*)(fmi2Component, const fmi2ValueReference*, size_t, void*)``: fmi2Get/SetReal/Boolean.
 VALUES_PROTOTYPE = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t,

@@ -9,7 +9,7 @@ from typing import Callable, Mapping, Sequence
 
 import numpy as np
 
-from .. import contract
+from ..common import contract
 from . import loop
 from ..scene import format_overrides
 from .config import CosimConfig, CosimResult, compensation_geometry, motion_parameters
@@ -26,7 +26,7 @@ def run_cosim(config: CosimConfig, progress: Callable[[float, float], None] | No
     config
         What to run.
     progress
-        Called as ``progress(t, t_end)`` after every step (e.g. :class:`towcable_fmu.run_io.Progress`).
+        Called as ``progress(t, t_end)`` after every step (e.g. :class:`towcable_fmu.common.run_io.Progress`).
     echo
         Print the FMUs' warnings and errors on stderr.
     fmus
@@ -48,7 +48,7 @@ def run_cosim(config: CosimConfig, progress: Callable[[float, float], None] | No
     SceneError
         Invalid configuration.
     """
-    from ..errors import SceneError
+    from ..common.errors import SceneError
     from ..fmu_build.build import ensure_fmus
     from ..scene import load_scene
 

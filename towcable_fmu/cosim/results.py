@@ -6,7 +6,7 @@ import json
 from pathlib import Path
 
 
-from .. import contract
+from ..common import contract
 from .config import CosimResult
 
 
@@ -14,7 +14,7 @@ from .config import CosimResult
 def write_results(result: CosimResult, outdir: str | Path, plot: bool = True, title: str = "") -> dict[str, Path]:
     """Write ``cosim.csv`` (columns = contract names), ``summary.json`` (parameters,
     geometry, timing) and ``cosim.png`` (plots) into ``outdir``."""
-    from ..run_io import write_csv
+    from ..common.run_io import write_csv
 
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
@@ -24,7 +24,7 @@ def write_results(result: CosimResult, outdir: str | Path, plot: bool = True, ti
                "units": {name: contract.unit_of(name) for name in result.series}}
     files["summary"].write_text(json.dumps(summary, indent=2, default=str), encoding="utf-8")
     if plot:
-        from ..plots import plot_cosim
+        from ..common.plots import plot_cosim
 
         files["plot"] = outdir / "cosim.png"
         plot_cosim(result.series, files["plot"], title=title)

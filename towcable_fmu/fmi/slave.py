@@ -56,8 +56,9 @@ import numpy as np
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer, Real, String
 from pythonfmu.enums import Fmi2Status
 
-from .. import contract, kernel_cache
-from ..errors import TowcableError
+from ..common import contract
+from ..jit import kernel_cache
+from ..common.errors import TowcableError
 from .shared_values import SharedValues, loader_values_address
 
 _TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
@@ -157,7 +158,7 @@ def _range_text(var: contract.Variable) -> str:
 
 def _carried_kernels_note() -> str:
     """Why the precompiled kernels the FMU carries did not serve (the activation module
-    records it, :func:`towcable_fmu.machine_cache.use_carried_kernels`), as a clause of
+    records it, :func:`towcable_fmu.jit.machine_cache.use_carried_kernels`), as a clause of
     the compile message; empty if they were not looked for."""
     package = __name__.split(".")[0]
     reason = getattr(sys.modules.get(f"{package}_activate"), "CARRIED_KERNELS", {}).get(package)

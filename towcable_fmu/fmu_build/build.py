@@ -2,7 +2,7 @@
 
 :func:`build_fmus` is what ``python build_fmu.py`` (repository root), the tests and the
 co-simulation master call. For every FMU of the contract (``[fmus]`` in
-``towcable_fmu/contract.toml``) it writes one zip archive, byte for byte the same for
+``towcable_fmu/common/contract.toml``) it writes one zip archive, byte for byte the same for
 the same sources (sorted entries, fixed dates):
 
 * ``modelDescription.xml``: pythonfmu's description of the slave's variables, with
@@ -11,7 +11,7 @@ the same sources (sorted entries, fixed dates):
   derived from the archive's content (:func:`annotate_model_description`);
 * ``resources/``: the bundle of our packages under a private name
   (:mod:`towcable_fmu.fmu_build.bundle`), its activation module
-  (:mod:`towcable_fmu.machine_cache`), a one-statement entry script per FMU, pythonfmu's
+  (:mod:`towcable_fmu.jit.machine_cache`), a one-statement entry script per FMU, pythonfmu's
   Python package (as pythonfmu's own builder embeds it), ``requirements.txt`` (the
   third-party packages, pythonfmu's convention, so ``pythonfmu deploy`` installs them),
   for a standalone FMU a Python runtime (:mod:`towcable_fmu.fmu_build.runtime`) and, with
@@ -42,7 +42,8 @@ from importlib import import_module
 from pathlib import Path
 from typing import Iterable
 
-from .. import contract, machine_cache
+from ..common import contract
+from ..jit import machine_cache
 from . import bundle as code_bundle
 from . import native
 

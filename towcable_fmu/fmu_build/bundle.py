@@ -11,7 +11,7 @@ sources never meet. Every absolute import of the three packages is rewritten to 
 from that package (as vendoring tools do); relative imports need nothing. Line numbers
 are kept (tracebacks, numba's cache names).
 
-At run time the FMU's entry script calls :func:`towcable_fmu.machine_cache.activate`
+At run time the FMU's entry script calls :func:`towcable_fmu.jit.machine_cache.activate`
 (copied with the rest as ``resources/<name>_activate.py``). If the Python running the FMU
 has these very sources installed, it imports those (one copy of the code and of its
 kernels for the command line and the FMUs). Else it installs the package from the
@@ -26,8 +26,8 @@ import ast
 import re
 from pathlib import Path
 
-from .. import machine_cache
-from ..machine_cache import MANIFEST, PACKAGES, bundle_name, manifest_text
+from ..jit import machine_cache
+from ..jit.machine_cache import MANIFEST, PACKAGES, bundle_name, manifest_text
 
 
 class BundleError(RuntimeError):

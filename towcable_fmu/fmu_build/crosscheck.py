@@ -29,7 +29,7 @@ from typing import Mapping
 
 import numpy as np
 
-from .. import contract
+from ..common import contract
 
 TOOL = "towcable"
 PLATFORM_PATH = ("fmus", "2.0", "cs", "linux64")

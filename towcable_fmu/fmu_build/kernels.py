@@ -2,11 +2,11 @@
 nothing.
 
 numba keys a cached kernel by its CPU target, so the kernels are compiled for a
-portable one, :data:`towcable_fmu.machine_cache.CARRIED_TARGET` (x86-64-v3), by a separate
+portable one, :data:`towcable_fmu.jit.machine_cache.CARRIED_TARGET` (x86-64-v3), by a separate
 Python (``NUMBA_CPU_NAME`` set) that imports the FMU's own bundle the way an FMU does and
 runs every FMU on every built-in scene (:mod:`towcable_fmu.fmu_build.warmup`). The result stays
 in the machine cache (below), so the next build of the same code reuses it; the FMU carries it as ``resources/kernels/<target>/towcable-<digest>/``,
-and :func:`towcable_fmu.machine_cache.use_carried_kernels` installs it where it runs.
+and :func:`towcable_fmu.jit.machine_cache.use_carried_kernels` installs it where it runs.
 
 The cache files name the source files they were compiled from (in error messages and
 numba's type annotations): the bundle's folder in that cache, the compiling Python's
@@ -34,7 +34,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from .. import machine_cache
+from ..jit import machine_cache
 
 #: Script of the compiling Python: argv = resources folder, bundle name.
 _COMPILE = """
@@ -44,7 +44,7 @@ sys.path.insert(0, sys.argv[1])
 import_module(sys.argv[2] + "_activate").import_bundle(sys.argv[2])
 warmup = import_module(sys.argv[2] + ".towcable_fmu.fmu_build.warmup")
 warmup.compile_kernels(lambda line: print(line, file=sys.stderr, flush=True))
-kernel_cache = import_module(sys.argv[2] + ".towcable_fmu.kernel_cache")
+kernel_cache = import_module(sys.argv[2] + ".towcable_fmu.jit.kernel_cache")
 print(json.dumps({"folder": kernel_cache.kernel_folder().name}))
 """
 

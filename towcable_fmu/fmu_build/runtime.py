@@ -51,7 +51,7 @@ _TRACE = """
 import importlib, json, pkgutil, sys
 import towcable_fmu.fmu, ship_motion.fmu, controllers.fmu
 import towcable_fmu, ship_motion, controllers
-skip = ("towcable_fmu.cli", "towcable_fmu.plots", "towcable_fmu.animation", "towcable_fmu.sweep",
+skip = ("towcable_fmu.cli", "towcable_fmu.common.plots", "towcable_fmu.animation", "towcable_fmu.sweep",
         "towcable_fmu.docs_gen", "towcable_fmu.analysis", "towcable_fmu.cosim")
 for pkg in (towcable_fmu, ship_motion, controllers):
     for info in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + "."):

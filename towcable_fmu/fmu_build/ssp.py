@@ -18,7 +18,7 @@ import zipfile
 from pathlib import Path
 from typing import Any, Mapping
 
-from .. import contract
+from ..common import contract
 
 #: Name of the parameter set of every component: tools that apply sets by name (the OSP's
 #: ``ecos simulate --parameterSet case``) apply the whole case at once.

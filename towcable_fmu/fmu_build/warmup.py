@@ -11,7 +11,7 @@ from __future__ import annotations
 from importlib import import_module
 from typing import Callable
 
-from .. import contract
+from ..common import contract
 from ..builtin_scenes import builtin_scene_names
 
 #: Communication step of the warm-up [s].

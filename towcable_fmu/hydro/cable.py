@@ -33,7 +33,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from .loading import NORMAL_TANGENTIAL, drag_coefficient, drag_coefficient_slope, loading_functions, loading_slopes
 from .water import CURRENT_LINEAR, WaterModel, mean_flow, turbulence
 

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 
 BARE = 0
 FAIRED = 1

@@ -30,7 +30,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from .water import WaterModel
 from .waves import flow_at, surface_height
 

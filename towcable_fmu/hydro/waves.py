@@ -51,7 +51,7 @@ import numpy as np
 
 from ship_motion.irregular import _REDUCE_MAX as REDUCE_MAX, _sincos as sincos
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from ..scene.model import Scene
 from .water import WaterModel, flow
 

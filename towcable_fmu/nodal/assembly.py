@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from ..hydro.towbody import body_force
 from .element import add_element
 from .model import NodalModel

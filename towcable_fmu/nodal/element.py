@@ -42,7 +42,7 @@ import math
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from ..hydro.cable import Section, point_load
 from .model import NodalModel
 

@@ -35,7 +35,7 @@ import math
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from .explicit_kernel import (STEP_FASTMATH, explicit_outputs, leapfrog_update, load_state, lumped_cable, lumped_forces,
                               new_work, set_top, store_state)
 from .integrators import (CLOCK_TIME, STAT_RESIDUALS, STAT_STEPS, Interpolant, NodalOptions, NodalState,

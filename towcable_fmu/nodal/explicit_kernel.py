@@ -35,7 +35,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from ..hydro.cable import drag
 from ..hydro.loading import NORMAL_TANGENTIAL
 from .element import _G0, _G1

@@ -25,8 +25,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kernel_cache import njit
-from ..kinematics import ship_point_kinematics
+from ..jit.kernel_cache import njit
+from ..numerics.kinematics import ship_point_kinematics
 from ..numerics.banded import band_lu, band_solve
 from ..numerics.hermite import step_weights
 from ..runtime.drive import evaluate_drive_with

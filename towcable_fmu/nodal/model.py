@@ -14,7 +14,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import SceneError
+from ..common.errors import SceneError
 from ..hydro.loading import LOADINGS
 from ..hydro.scene_data import build_body, build_water
 from ..hydro.towbody import BodyHydro, no_body

@@ -19,7 +19,7 @@ from typing import Iterable
 import numpy as np
 
 from ..runtime import drive as drive_poly
-from ..errors import SolverError
+from ..common.errors import SolverError
 from ..numerics.alpha_scheme import scheme_coefficients
 from ..hydro.rigid_body import angular_kinematics, hanging_coordinates
 from ..scene.model import Scene

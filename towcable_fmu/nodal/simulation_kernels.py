@@ -1,4 +1,4 @@
-"""The kernels a nodal-position simulation runs, as jobs for :mod:`towcable_fmu.parallel_compile`.
+"""The kernels a nodal-position simulation runs, as jobs for :mod:`towcable_fmu.jit.parallel_compile`.
 
 The arguments have the types :class:`~towcable_fmu.nodal.simulation.NodalSimulation`
 passes (sizes do not matter: the jobs compile, they do not run). The nodal model's numba
@@ -14,7 +14,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..parallel_compile import Job
+from ..jit.parallel_compile import Job
 from ..scene import load_scene
 from .assembly import cable_residual, expand, iteration_matrix, residual
 from .explicit import leapfrog_recording, lumped_accelerations, node_masses

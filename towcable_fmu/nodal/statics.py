@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 from ..numerics.banded import band_lu, band_solve
 from .assembly import bandwidth, iteration_matrix, residual
 from .model import NodalModel

@@ -8,7 +8,7 @@ gamma = 1/2 + af - am, beta = (gamma + 1/2)^2 / 4 (second order, unconditionally
 
 from __future__ import annotations
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 
 
 @njit(cache=True)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 
 
 @njit(cache=True, inline="always")

@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 
 #: Layout of a vessel parameter vector: mass [kg], heave kp [N/m], heave kd [N s/m],
 #: resistance [N s^2/m^2].

@@ -15,8 +15,8 @@ import time
 import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK45, Radau
 
-from .. import contract
-from ..errors import SolverError
+from ..common import contract
+from ..common.errors import SolverError
 from ..runtime.protocol import SOLVER_STATISTICS
 from ..runtime.driver import SimulationDriver
 from .dynamics import accelerations, end_tensions, link_forces, node_kinematics

@@ -15,7 +15,7 @@ import dataclasses
 import numpy as np
 from scipy.optimize import root
 
-from ..errors import SolverError
+from ..common.errors import SolverError
 
 
 @dataclasses.dataclass(frozen=True)

@@ -8,7 +8,7 @@ from typing import Mapping, NamedTuple, Sequence
 
 import numpy as np
 
-from ..errors import SceneError
+from ..common.errors import SceneError
 from ..scene.model import Rope, Scene
 from . import bending, extremes
 from .extremes import STORM

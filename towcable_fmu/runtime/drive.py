@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 
 N_CHANNELS = 7
 

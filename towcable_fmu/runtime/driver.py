@@ -16,9 +16,9 @@ from typing import Any, Callable, Iterable, Mapping
 
 import numpy as np
 
-from .. import contract
+from ..common import contract
 from . import drive as drive_poly
-from ..errors import SceneError, SolverError
+from ..common.errors import SceneError, SolverError
 from .sampling import output_interval, sample_times
 from ..scene import load_scene
 from .ship_input import check_ship_state

@@ -1,4 +1,4 @@
-"""The kernels of a simulation's inputs, as jobs for :mod:`towcable_fmu.parallel_compile`:
+"""The kernels of a simulation's inputs, as jobs for :mod:`towcable_fmu.jit.parallel_compile`:
 the ship motion's harmonic sum (:func:`ship_motion.irregular.harmonic_state`, a scene's
 irregular sea and the ShipMotion FMU) and a compensation's set-point law
 (:func:`controllers.setpoint.setpoint_law`, a compensating scene and the
@@ -13,7 +13,7 @@ import numpy as np
 from controllers.setpoint import setpoint_law
 from ship_motion.irregular import harmonic_state
 
-from ..parallel_compile import Job
+from ..jit.parallel_compile import Job
 
 
 def kernel_jobs() -> list[Job]:

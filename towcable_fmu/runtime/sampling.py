@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from ..errors import SceneError
+from ..common.errors import SceneError
 
 
 def output_interval(duration: float, interval: float | None, default: float) -> float:

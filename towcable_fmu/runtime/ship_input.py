@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import SceneError
+from ..common.errors import SceneError
 from ..scene.model import Scene
 
 if TYPE_CHECKING:

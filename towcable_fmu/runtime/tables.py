@@ -13,7 +13,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Any, Collection
 
-from ..errors import SceneError
+from ..common.errors import SceneError
 
 #: Optional tables of data that no run reads, so every formulation accepts them: a cable
 #: segment's rope data (breaking strength, construction), read by :mod:`towcable_fmu.rope_life`.

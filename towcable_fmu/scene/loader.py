@@ -18,8 +18,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Iterable, Mapping
 
 from ..builtin_scenes import builtin_scene_names, builtin_scene_text
-from ..errors import SceneError
-from ..schema import parse, spec
+from ..common.errors import SceneError
+from ..common.schema import parse, spec
 from .model import Scene
 
 if TYPE_CHECKING:

@@ -1,8 +1,8 @@
 """The scene: typed, validated description of one towed-cable system.
 
 Each class is one TOML table of a scene file; every field declares its unit, default
-and allowed range (see :mod:`towcable_fmu.schema`). Cross-field rules live in
-``validate`` methods and raise :class:`~towcable_fmu.errors.SceneError` as well.
+and allowed range (see :mod:`towcable_fmu.common.schema`). Cross-field rules live in
+``validate`` methods and raise :class:`~towcable_fmu.common.errors.SceneError` as well.
 """
 
 from __future__ import annotations
@@ -12,9 +12,9 @@ import math
 
 import numpy as np
 
-from ..errors import SceneError
+from ..common.errors import SceneError
 from ..numerics.explicit_step import SAFETY, step_limit
-from ..schema import spec
+from ..common.schema import spec
 
 
 @dataclasses.dataclass(frozen=True)

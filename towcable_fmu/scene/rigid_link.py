@@ -3,15 +3,15 @@
 Frame: ``x`` horizontal along the tow (the tug ahead, at larger ``x``; ``x = 0`` at the
 towed vessel's initial fairlead), ``z`` up from the mean waterline (both fairleads start
 at ``layout.height``). Each class is one TOML table; every field declares its unit,
-default and allowed range through :func:`~towcable_fmu.schema.spec`.
+default and allowed range through :func:`~towcable_fmu.common.schema.spec`.
 """
 
 from __future__ import annotations
 
 import dataclasses
 
-from ..errors import SceneError
-from ..schema import spec
+from ..common.errors import SceneError
+from ..common.schema import spec
 from .model import Environment
 
 

@@ -130,7 +130,7 @@ def run_case(case: Case, fmus: Mapping[str, Path] | None = None) -> CaseResult:
 
 def _is_expected(exc: Exception) -> bool:
     """Errors of the model (bad input, solver, FMU) carry their own explanation."""
-    from ..errors import TowcableError
+    from ..common.errors import TowcableError
 
     return isinstance(exc, TowcableError)
 

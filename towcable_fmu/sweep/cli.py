@@ -10,7 +10,7 @@ from pathlib import Path
 def cmd_sweep(args: argparse.Namespace) -> int:
     """Run the missing cases of a sweep and print where the table is."""
     from ..models import KERNEL_SOURCES, model_kind
-    from ..parallel_compile import compile_ahead
+    from ..jit.parallel_compile import compile_ahead
     from ..scene import load_scene
     from .execute import run_sweep
     from .spec import load_spec

@@ -321,7 +321,7 @@ def _run_dask(todo: Sequence[Case], scheduler: str, fmus: Mapping[str, Path] | N
     try:
         from distributed import Client, as_completed, wait
     except ImportError:
-        from ..errors import TowcableError
+        from ..common.errors import TowcableError
 
         raise TowcableError("--scheduler needs Dask: pip install 'towcable[dask]'") from None
     with Client(scheduler, timeout="30s") as client:

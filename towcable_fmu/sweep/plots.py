@@ -165,7 +165,7 @@ def plot_exceedance(table: Path, path: Path, signal: str = "tension.sheave", lab
         data = _read_series(folder / f"{row['case_id']}.csv", ("time", signal))
         levels, share = exceedance(data[signal][data["time"] >= t0 - 1e-9])
         ax.semilogy(levels, share, lw=1.0, label=", ".join(f"{k}={row[k]}" for k in keys))
-    from .. import contract
+    from ..common import contract
 
     ax.set_xlabel(f"{signal} [{contract.unit_of(signal)}]")
     ax.set_ylabel("share of time exceeded [-]")

@@ -40,7 +40,7 @@ import tomllib
 from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping
 
-from ..errors import SceneError
+from ..common.errors import SceneError
 from .statistics import DEFAULT_STATISTICS, DERIVED, statistic
 
 #: Short parameter names -> the scene keys they set (``{n}``: every cable segment).
@@ -258,7 +258,7 @@ def scene_signals(settings: RunSettings, fixed: Mapping[str, Any]) -> tuple[tupl
     without them if the scene refuses them: that case fails on its own). Cosim mode: every
     output of the three FMUs.
     """
-    from .. import contract
+    from ..common import contract
 
     if settings.mode == "cosim":
         names = ["time"] + [v.name for f in contract.fmus().values() for v in f.outputs if not v.diagnostic]

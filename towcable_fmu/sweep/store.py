@@ -301,7 +301,7 @@ def find_table(path: Path) -> Path:
 
 def write_series(folder: Path, case_id: str, series: dict[str, np.ndarray]) -> Path:
     """Write a case's time series as ``folder/<case_id>.csv`` (columns = output names)."""
-    from ..run_io import write_csv
+    from ..common.run_io import write_csv
 
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / f"{case_id}.csv"

@@ -28,7 +28,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kernel_cache import njit
+from ..jit.kernel_cache import njit
 
 
 class WakeParameters(NamedTuple):

@@ -23,7 +23,7 @@ import numpy as np  # noqa: E402
 
 from towcable_fmu.models import simulation_from  # noqa: E402
 from towcable_fmu.rope_life.assessment import assess, life_years  # noqa: E402
-from towcable_fmu.run_io import read_csv, write_csv  # noqa: E402
+from towcable_fmu.common.run_io import read_csv, write_csv  # noqa: E402
 from towcable_fmu.scene import load_scene  # noqa: E402
 
 HERE = Path(__file__).parent

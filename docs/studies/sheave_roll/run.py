@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from towcable_fmu.kinematics import rotation_matrix
+from towcable_fmu.numerics.kinematics import rotation_matrix
 from towcable_fmu.ancf.simulation import Simulation
 
 HERE = Path(__file__).parent

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from ...kernel_cache import njit
+from ...jit.kernel_cache import njit
 from . import contact_quadrature as cable_contact
 from .contact_quadrature import new_summary, surface_summary
 from ...contact.surfaces import CYLINDER, RIM, SHEAVE, WALL_MINUS, WALL_PLUS, WINCH, ContactModel, no_contact

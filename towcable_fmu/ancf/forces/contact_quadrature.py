@@ -15,9 +15,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...kernel_cache import njit
+from ...jit.kernel_cache import njit
 from ..partial import active_quadrature, add_point_block, crossing_stiffness, hermite, interpolate
-from ...kinematics import rotation_derivatives
+from ...numerics.kinematics import rotation_derivatives
 from ...contact.surfaces import CYLINDER, ContactModel, face_force, face_tangent, groove_exit
 
 _MARGIN = 1e-3  # [m] added to the reach of a surface when culling elements

@@ -13,8 +13,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from ...errors import SceneError, SolverError
-from ...kernel_cache import njit
+from ...common.errors import SceneError, SolverError
+from ...jit.kernel_cache import njit
 from ...scene.model import Scene
 from .. import element
 from ..feed import (BOUNDARY_BAND, MERGE_FACTOR, SPLIT_FACTOR, boundary_above, feed_event, fed_length,

@@ -9,7 +9,7 @@ gets :class:`TermHooks`, which does nothing). The simulation
 names no term.
 
 Outputs: ``OUTPUTS`` lists every output the term can give (rows of the contract,
-``towcable_fmu/contract.toml``); ``outputs``, set when the hooks are built, those the
+``towcable_fmu/common/contract.toml``); ``outputs``, set when the hooks are built, those the
 scene has. An output that is a field of the compiled output kernel
 (:data:`~towcable_fmu.ancf.output_kernel.OUTPUT_FIELDS`) is computed there; any other is
 computed in Python by :meth:`TermHooks.values` (the run then records one sample at a time).
@@ -77,7 +77,7 @@ class TermHooks:
 
     def start(self, phi: float) -> None:
         """At initialisation, with the winch rotation the run starts from [rad] (may refuse it:
-        :class:`~towcable_fmu.errors.SceneError`)."""
+        :class:`~towcable_fmu.common.errors.SceneError`)."""
 
     def save(self) -> Any:
         """The term's state beyond the state arrays, JSON-able (None: none)."""
@@ -108,7 +108,7 @@ class TermHooks:
 
     def remesh(self, key: str) -> None:
         """Before elements are split or merged (``key``: the method's name): refuse it with a
-        :class:`~towcable_fmu.errors.SceneError` if the term's state cannot follow."""
+        :class:`~towcable_fmu.common.errors.SceneError` if the term's state cannot follow."""
 
     def new_node_rates(self, element: int, xi: float) -> tuple[np.ndarray, np.ndarray] | None:
         """The velocity and acceleration (6,) a node inserted at ``xi`` of ``element`` takes,

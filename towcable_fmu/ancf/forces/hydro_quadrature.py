@@ -18,7 +18,7 @@ import numpy as np
 
 from ...hydro.cable import Section, point_load, point_tangent, unit_direction
 from ...hydro.water import WaterModel
-from ...kernel_cache import njit
+from ...jit.kernel_cache import njit
 from ..partial import active_quadrature, add_point_block, crossing_stiffness, hermite, interpolate
 
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from typing import Any
 
-from ...kernel_cache import njit
+from ...jit.kernel_cache import njit
 from ...hydro.loading import LOADINGS
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion

@@ -13,7 +13,7 @@ from typing import Any, Iterable, NamedTuple
 
 import numpy as np
 
-from ...kernel_cache import njit
+from ...jit.kernel_cache import njit
 from ...hydro.rigid_body import (RigidBodyModel, angular_kinematics, attitude_ok, body_residual, build_rigid_body,
                                  tow_point_state)
 from ...scene.model import Scene

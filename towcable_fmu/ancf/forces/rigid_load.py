@@ -13,7 +13,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from ...kernel_cache import njit
+from ...jit.kernel_cache import njit
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
 from .hooks import TermHooks

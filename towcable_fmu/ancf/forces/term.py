@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...kernel_cache import njit
+from ...jit.kernel_cache import njit
 from ...numerics.banded import band_add_block, band_add_scattered
 from ..model import CableModel
 

@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from ...kernel_cache import njit
+from ...jit.kernel_cache import njit
 from ...hydro import towbody as body_hydro
 from ...hydro.scene_data import build_body
 from ...hydro.towbody import BodyHydro

@@ -11,8 +11,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from ...errors import SceneError
-from ...kernel_cache import njit
+from ...common.errors import SceneError
+from ...jit.kernel_cache import njit
 from ...scene.model import Scene
 from ..model import CableModel, Mesh, Motion
 from .hooks import TermHooks

@@ -42,7 +42,7 @@ from ...hydro.cable import point_load_in_waves, point_tangent_in_waves, unit_dir
 from ...hydro.water import WaterModel
 from ...hydro.waves import (ACC, DACC, DVEL, OUT_SIZE, VEL, elevation, near, scratch_size, surface_height,
                             water_waves)
-from ...kernel_cache import njit
+from ...jit.kernel_cache import njit
 from ..partial import active_quadrature, add_point_block, crossing_stiffness, hermite, interpolate
 from .hydro_quadrature import CableHydro, element_section
 

@@ -4,7 +4,7 @@ Every configuration table of the project (the scene's sections, the ship motion'
 ``[motion]`` of each ``type``, the compensation's ``[compensation]``) is a frozen
 dataclass whose fields carry a :func:`spec` in their metadata (unit, allowed range or
 choices, description). :func:`parse` walks a TOML table against such a dataclass, fills
-defaults, and raises :class:`~towcable_fmu.errors.SceneError` naming the dotted key, the
+defaults, and raises :class:`~towcable_fmu.common.errors.SceneError` naming the dotted key, the
 bad value and what is allowed; unknown keys are errors too (with a "did you mean" hint).
 :func:`describe` turns the same declaration into the rows of the generated reference
 (``docs/reference/scene_keys.md``).

@@ -59,7 +59,7 @@ def unit_of(name: str) -> str:
         return sig.unit
     if name.startswith("solver."):
         return "s" if name.endswith(("time", "time_step")) else "1"
-    raise KeyError(f"'{name}' is not in the variable contract (towcable_fmu/contract.toml)")
+    raise KeyError(f"'{name}' is not in the variable contract (towcable_fmu/common/contract.toml)")
 
 
 # ------------------------------------------------------------------ FMUs and the system
@@ -142,7 +142,7 @@ class FmuSpec:
         for v in self.variables:
             if v.name == name:
                 return v
-        raise KeyError(f"FMU {self.name} has no variable '{name}' (towcable_fmu/contract.toml)")
+        raise KeyError(f"FMU {self.name} has no variable '{name}' (towcable_fmu/common/contract.toml)")
 
     def names(self, causality: str) -> tuple[str, ...]:
         """Names of the parameters, inputs or outputs."""

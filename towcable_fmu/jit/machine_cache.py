@@ -11,7 +11,7 @@ The cache folder (:func:`cache_root`) is ``$TOWCABLE_CACHE_DIR``, else
 * ``code/<bundle>/``: the package an FMU carries (:func:`activate`), installed once per
   bundle digest, so the code has one place per machine whatever folder a host unzips
   the FMU into;
-* ``kernels/towcable-<digest>/``: the compiled kernels (:mod:`towcable_fmu.kernel_cache`),
+* ``kernels/towcable-<digest>/``: the compiled kernels (:mod:`towcable_fmu.jit.kernel_cache`),
   compiled on this machine or installed from the precompiled kernels an FMU carries
   (:func:`use_carried_kernels`).
 

@@ -11,7 +11,7 @@ of all their kernel sources instead::
 so the same code finds its kernels from any folder, and any change of a kernel source
 compiles everything afresh (old digests are simply never read again).
 
-The cache root is :func:`towcable_fmu.machine_cache.cache_root` (``$TOWCABLE_CACHE_DIR``,
+The cache root is :func:`towcable_fmu.jit.machine_cache.cache_root` (``$TOWCABLE_CACHE_DIR``,
 ``$NUMBA_CACHE_DIR/towcable`` or ``~/.cache/towcable``). If it cannot be written,
 numba's own locators take over (a warning says so once).
 
@@ -43,7 +43,7 @@ from .machine_cache import PACKAGES, cache_root
 _CACHE_IMPL = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl")
 
 #: Folder holding the three packages of this copy of the code.
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @functools.cache

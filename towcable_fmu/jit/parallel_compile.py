@@ -18,7 +18,7 @@ left undone is compiled in-process, when the command calls it.
 
 The helpers import the very package files this process runs (the folder holding them
 goes first on their module path) and inherit its environment, so they write the same
-kernel cache (:mod:`towcable_fmu.kernel_cache`). The copy of the code an FMU carries is
+kernel cache (:mod:`towcable_fmu.jit.kernel_cache`). The copy of the code an FMU carries is
 imported under another name and compiles in its own process only (one worker).
 """
 
@@ -47,7 +47,7 @@ _POLL = 0.05
 _HELPER = """
 import sys
 sys.path.insert(0, sys.argv[1])
-from towcable_fmu.parallel_compile import helper_main
+from towcable_fmu.jit.parallel_compile import helper_main
 sys.exit(helper_main(sys.argv[2:]))
 """
 
@@ -165,7 +165,7 @@ def compile_kernels(sources: Sequence[str], workers: int | None = None,
         return []
     if workers is None:
         workers = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    if __name__ != "towcable_fmu.parallel_compile":  # an FMU's copy: helpers would import another name
+    if __name__ != "towcable_fmu.jit.parallel_compile":  # an FMU's copy: helpers would import another name
         workers = 1
     workers = max(1, min(workers, len(jobs)))
     owners = plan(jobs, workers)
@@ -209,7 +209,7 @@ def compile_kernels(sources: Sequence[str], workers: int | None = None,
 
 def compile_ahead(sources: Sequence[str], echo: bool = True) -> None:
     """:func:`compile_kernels` for a command: a notice on stderr when it compiles (instead of
-    :data:`~towcable_fmu.kernel_cache.WATCH`'s), the time it took, and a warning per
+    :data:`~towcable_fmu.jit.kernel_cache.WATCH`'s), the time it took, and a warning per
     failure (those kernels then compile as the run calls them)."""
     said = []
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .kernel_cache import njit
+from ..jit.kernel_cache import njit
 
 #: Column order of a ship state array.
 SHIP_DOF_NAMES = ("x", "y", "z", "roll", "pitch", "yaw")
