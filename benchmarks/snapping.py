@@ -419,7 +419,7 @@ def main(argv: list[str] | None = None) -> None:
             moordyn_ab_defect(f)
         return
     kinds = [k for k in OURS if OURS[k][1] in integrators_available()]
-    started = time.perf_counter()
+    started, load = time.perf_counter(), os.getloadavg()[0]
     sweeps, defects = [], {}
     for f in FREQUENCIES[:1] if args.quick else FREQUENCIES:
         common = cached_peer("MoorDyn", f, MOORDYN_REFERENCE, lambda f=f: moordyn_run(f, *MOORDYN_REFERENCE))
@@ -433,7 +433,7 @@ def main(argv: list[str] | None = None) -> None:
         sweep.time_fronts(REPEATS)
         sweeps.append(sweep)
         defects[f] = moordyn_ab_defect(f)
-    write_report(sweeps, defects, kinds, time.perf_counter() - started)
+    write_report(sweeps, defects, kinds, time.perf_counter() - started, (load, os.getloadavg()[0]))
 
 
 def _setting(res: dict) -> str:
@@ -449,11 +449,14 @@ def _row(res: dict | None) -> list[str]:
             f"{speed(res):.1f} ({len(res['walls'])})"]
 
 
-def write_report(sweeps: list[Sweep], defects: dict, kinds: list[str], elapsed: float) -> None:
-    """Markdown tables (fronts, fastest within 1 %, ratios) and the work-precision plot."""
+def write_report(sweeps: list[Sweep], defects: dict, kinds: list[str], elapsed: float,
+                 load: tuple[float, float]) -> None:
+    """Markdown tables (fronts, fastest within 1 %, ratios) and the work-precision plot;
+    ``load``: the load average at the start and at the end of the sweeps."""
     lines = ["# Snapping cable: work-precision fronts, ours and the peers\n", machine_header(),
-             f"- the machine was shared with other jobs (2 cores, up to 4 agents): absolute speeds are low and "
-             f"noisy; the ratios are of runs in the same session. Whole benchmark: {elapsed / 60:.0f} min.\n\n",
+             f"- load average {load[0]:.1f} at the start, {load[1]:.1f} at the end, on 2 cores (above 2 the machine "
+             f"is shared with other jobs: absolute speeds are low and noisy, the ratios are of runs in the same "
+             f"session). Whole benchmark: {elapsed / 60:.0f} min.\n\n",
              DESCRIPTION, "\n",
              f"Our model kinds in this run: {', '.join(kinds)}. "
              "Speed: simulated seconds per wall second (in brackets: the number of timings, median).\n"]
