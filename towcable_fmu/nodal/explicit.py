@@ -36,8 +36,8 @@ import math
 import numpy as np
 
 from ..jit.kernel_cache import njit
-from .explicit_kernel import (STEP_FASTMATH, explicit_outputs, leapfrog_update, load_state, lumped_cable, lumped_forces,
-                              new_work, set_top, store_state)
+from .explicit_kernel import (STEP_FASTMATH, STRIDES, LumpedCable, explicit_outputs, leapfrog_update, load_state,
+                              lumped_cable, lumped_forces, new_work, set_top, store_state, update_with)
 from .integrators import (CLOCK_TIME, STAT_RESIDUALS, STAT_STEPS, Interpolant, NodalOptions, NodalState,
                           interpolate_step, prescribe_top_with)
 from .model import NodalModel
@@ -114,24 +114,24 @@ def _top_piece(drive_t: np.ndarray, drive_x: np.ndarray, top_point: np.ndarray, 
         piece[i + 5] = -6.0 * p0 - 3.0 * b0 - 0.5 * c0 + 6.0 * p1 - 3.0 * b1 + 0.5 * c1
 
 
+@njit(cache=True)
+def drive_is_plain(drive_x: np.ndarray) -> bool:
+    """True if the ship rotates nowhere in the drive table: every rotation channel's value,
+    rate and acceleration 0 at every knot (every piece plain, see :func:`_top_piece`)."""
+    for knot in range(drive_x.shape[0]):
+        for d in range(3):
+            for c in range(3, 6):
+                if drive_x[knot, d, c] != 0.0:
+                    return False
+    return True
+
+
 @njit(cache=True, inline="always")
-def prescribe_top_fast(top_on_ship: bool, top_point: np.ndarray, drive_t: np.ndarray, drive_x: np.ndarray,
-                       t: float, q: np.ndarray, v: np.ndarray, a: np.ndarray, ship: np.ndarray, basis: np.ndarray,
-                       piece: np.ndarray) -> None:
-    """:func:`~.integrators.prescribe_top_with` (the top node's position [m], velocity [m/s]
-    and acceleration [m/s^2] at time ``t`` [s] into the first entries of ``q``, ``v``, ``a``)
-    with the drive's piece kept in ``piece`` (:func:`new_top_piece`) while t stays in it:
-    where the ship does not rotate, three quintics by Horner's rule (the same polynomial as
-    the drive's Hermite basis, to round-off) instead of the six channels' basis and the
-    search for the piece at every step."""
-    if not top_on_ship or drive_t.shape[0] < 2:
-        prescribe_top_with(top_on_ship, top_point, drive_t, drive_x, t, q, v, a, ship, basis)
-        return
-    if not piece[_P_LO] < t <= piece[_P_HI]:
-        _top_piece(drive_t, drive_x, top_point, t, piece)
-    if piece[_P_PLAIN] == 0.0:
-        prescribe_top_with(top_on_ship, top_point, drive_t, drive_x, t, q, v, a, ship, basis)
-        return
+def _top_from_piece(piece: np.ndarray, drive_t: np.ndarray, t: float, q: np.ndarray, v: np.ndarray,
+                    a: np.ndarray) -> None:
+    """The top node's position [m], velocity [m/s] and acceleration [m/s^2] at time ``t`` [s]
+    into ``q``, ``v``, ``a`` from the quintics of ``piece`` (a plain piece that serves t) by
+    Horner's rule."""
     inv_dt = piece[_P_INV_DT]
     k = int(piece[_P_INDEX])
     s = (t - drive_t[k]) / (drive_t[k + 1] - drive_t[k])  # (as the drive computes it: the same s)
@@ -141,6 +141,136 @@ def prescribe_top_fast(top_on_ship: bool, top_point: np.ndarray, drive_t: np.nda
         q[c] = c0 + s * (c1 + s * (c2 + s * (c3 + s * (c4 + s * c5))))
         v[c] = (c1 + s * (2.0 * c2 + s * (3.0 * c3 + s * (4.0 * c4 + s * 5.0 * c5)))) * inv_dt
         a[c] = (2.0 * c2 + s * (6.0 * c3 + s * (12.0 * c4 + s * 20.0 * c5))) * (inv_dt * inv_dt)
+
+
+@njit(cache=True, inline="always")
+def prescribe_top_fast(top_on_ship: bool, top_point: np.ndarray, drive_t: np.ndarray, drive_x: np.ndarray,
+                       t: float, q: np.ndarray, v: np.ndarray, a: np.ndarray, ship: np.ndarray, basis: np.ndarray,
+                       piece: np.ndarray) -> None:
+    """:func:`~.integrators.prescribe_top_with` (the top node's position [m], velocity [m/s]
+    and acceleration [m/s^2] at time ``t`` [s] into the first entries of ``q``, ``v``, ``a``)
+    with the drive's piece kept in ``piece`` (:func:`new_top_piece`) while t stays in it:
+    where the ship does not rotate, three quintics by Horner's rule (the same polynomial as
+    the drive's Hermite basis, to round-off: :func:`_top_from_piece`) instead of the six
+    channels' basis and the search for the piece at every step."""
+    if not top_on_ship or drive_t.shape[0] < 2:
+        prescribe_top_with(top_on_ship, top_point, drive_t, drive_x, t, q, v, a, ship, basis)
+        return
+    if not piece[_P_LO] < t <= piece[_P_HI]:
+        _top_piece(drive_t, drive_x, top_point, t, piece)
+    if piece[_P_PLAIN] == 0.0:
+        prescribe_top_with(top_on_ship, top_point, drive_t, drive_x, t, q, v, a, ship, basis)
+        return
+    _top_from_piece(piece, drive_t, t, q, v, a)
+
+
+@njit(cache=True, inline="always")
+def _recording_with(plain: bool, stride: int, closed: bool, c: LumpedCable, work: np.ndarray, on_ship: bool,
+                    top_point: np.ndarray, h_nom: float, state: NodalState, samples: np.ndarray,
+                    drive_t: np.ndarray, drive_x: np.ndarray, values: np.ndarray, ip: Interpolant,
+                    interpolate: bool, t_land: float) -> int:
+    """:func:`leapfrog_recording`'s loop over the samples from the cable's tables ``c`` and its
+    rows ``work`` (loaded), with steps of ``h_nom`` [s]. ``plain`` (a literal): the top is on
+    the ship and the ship rotates nowhere in the drive (the top node at every step from the
+    kept piece's quintics, with no test for a rotating piece or for the general evaluation);
+    ``stride``, ``closed``: the cable's (with ``plain`` literals: the step compiled for them,
+    :func:`.explicit_kernel.update_with`; else the step dispatched on them,
+    :func:`.explicit_kernel.leapfrog_update`)."""
+    # (the fields in locals: a named tuple of arrays passed inside the loop is reference-counted field by field)
+    n_nodes, wet, body_on, water, gravity = c.n_nodes, c.wet, c.body_on, c.water, c.gravity
+    end_mass, flow, body, table = c.end_mass, c.flow, c.body, c.table
+    elements, hydro, kind = c.elements, c.hydro, c.kind
+    q, v, a, clock, stats = state.q, state.v, state.x, state.clock, state.stats
+    n = q.size
+    ship, basis = np.empty((3, 6)), np.empty((6, 3))
+    top_q, top_v, top_a = np.empty(3), np.empty(3), np.empty(3)
+    piece = new_top_piece()
+    start, state_t, t0 = ip.start, ip.state, ip.t0
+    # (the clock in a local, written at each sample: a store to an array in the loop made the
+    # compiler reload the rows after it)
+    t = clock[CLOCK_TIME]
+    for s in range(samples.size):
+        target = samples[s]
+        tol = 1e-12 * max(1.0, abs(target))
+        stop, inside = target - tol, target + tol
+        steps = 0
+        while t < stop:
+            h = h_nom
+            if interpolate:
+                # (the clock sums thousands of steps: no extra step for its round-off; more than 3
+                # steps from t_land n_rem > 3 and h stays h_nom: no division there)
+                if t_land - t < 4.0 * h_nom:
+                    n_rem = math.ceil((t_land - t) / h - 1e-6)
+                    h = h if n_rem > 2 else (t_land - t) / n_rem
+            else:
+                h = min(h, target - t)
+            if t + h > inside:  # the sample falls inside this step: keep its start
+                store_state(work, stride, q, v, a)
+                for i in range(n):
+                    start[0, i], start[1, i], start[2, i] = q[i], v[i], a[i]
+                t0[0] = t
+            if plain:
+                if not piece[_P_LO] < t + h <= piece[_P_HI]:
+                    _top_piece(drive_t, drive_x, top_point, t + h, piece)
+                _top_from_piece(piece, drive_t, t + h, top_q, top_v, top_a)
+            else:
+                prescribe_top_fast(on_ship, top_point, drive_t, drive_x, t + h, top_q, top_v, top_a, ship, basis,
+                                   piece)
+            set_top(work, stride, top_q, top_v, top_a)
+            if plain:
+                update_with(stride, closed, n_nodes, wet, body_on, water, gravity, end_mass, flow, body, hydro, kind,
+                            table, work, h)
+            else:
+                leapfrog_update(n_nodes, closed, stride, wet, body_on, water, gravity, end_mass, flow, body, hydro,
+                                kind, table, work, h)
+            t = t + h
+            steps += 1
+        clock[CLOCK_TIME] = t
+        stats[STAT_STEPS] += steps
+        stats[STAT_RESIDUALS] += steps
+        store_state(work, stride, q, v, a)
+        row = values[s]
+        if target >= t - tol:
+            explicit_outputs(wet, water, flow, elements, hydro, kind, q, v, a, row)
+        else:
+            interpolate_step(on_ship, top_point, start, t0[0], state_t, q, v, a, t, target, drive_t, drive_x, ship,
+                             basis)
+            explicit_outputs(wet, water, flow, elements, hydro, kind, state_t[0], state_t[1], state_t[2], row)
+        for k in range(row.size):
+            if not math.isfinite(row[k]):
+                return s
+    return samples.size
+
+
+# the loop compiled three times, each its own function: one function holding the plain loop
+# beside the general top's and the other strides' code made a step of the snapping cable
+# about 50 ns slower (an earlier measurement)
+@njit(cache=True, error_model="numpy", fastmath=STEP_FASTMATH)
+def _recording_plain_short(c: LumpedCable, work: np.ndarray, on_ship: bool, top_point: np.ndarray, h_nom: float,
+                           state: NodalState, samples: np.ndarray, drive_t: np.ndarray, drive_x: np.ndarray,
+                           values: np.ndarray, ip: Interpolant, interpolate: bool, t_land: float) -> int:
+    """:func:`_recording_with` for a plain drive, closed-form drag and the first stride."""
+    return _recording_with(True, STRIDES[0], True, c, work, on_ship, top_point, h_nom, state, samples, drive_t,
+                           drive_x, values, ip, interpolate, t_land)
+
+
+@njit(cache=True, error_model="numpy", fastmath=STEP_FASTMATH)
+def _recording_plain_long(c: LumpedCable, work: np.ndarray, on_ship: bool, top_point: np.ndarray, h_nom: float,
+                          state: NodalState, samples: np.ndarray, drive_t: np.ndarray, drive_x: np.ndarray,
+                          values: np.ndarray, ip: Interpolant, interpolate: bool, t_land: float) -> int:
+    """:func:`_recording_with` for a plain drive, closed-form drag and the second stride."""
+    return _recording_with(True, STRIDES[1], True, c, work, on_ship, top_point, h_nom, state, samples, drive_t,
+                           drive_x, values, ip, interpolate, t_land)
+
+
+@njit(cache=True, error_model="numpy", fastmath=STEP_FASTMATH)
+def _recording_general(c: LumpedCable, work: np.ndarray, on_ship: bool, top_point: np.ndarray, h_nom: float,
+                       state: NodalState, samples: np.ndarray, drive_t: np.ndarray, drive_x: np.ndarray,
+                       values: np.ndarray, ip: Interpolant, interpolate: bool, t_land: float) -> int:
+    """:func:`_recording_with` for any cable and drive (the step dispatched on the cable's
+    stride and drag: :func:`.explicit_kernel.leapfrog_update`)."""
+    return _recording_with(False, c.stride, c.closed, c, work, on_ship, top_point, h_nom, state, samples, drive_t,
+                           drive_x, values, ip, interpolate, t_land)
 
 
 # error_model "numpy": a division by zero gives inf or NaN (the run stops at a non-finite
@@ -164,56 +294,14 @@ def leapfrog_recording(m: NodalModel, mass: np.ndarray, options: NodalOptions, s
         Number of samples reached (fewer when an output is not finite: a blown-up run; the
         state is then not a valid one and the caller rolls back).
     """
-    q, v, a, clock, stats = state.q, state.v, state.x, state.clock, state.stats
-    n = q.size
     c = lumped_cable(m, mass)
-    stride = c.stride
     work = new_work(c)
-    load_state(q, v, a, work, stride)
-    # (the fields in locals: a named tuple of arrays passed inside the loop is reference-counted field by field)
-    n_nodes, closed, wet, body_on, water, gravity = c.n_nodes, c.closed, c.wet, c.body_on, c.water, c.gravity
-    end_mass, flow, body, table = c.end_mass, c.flow, c.body, c.table
-    elements, hydro, kind = c.elements, c.hydro, c.kind
-    ship, basis = np.empty((3, 6)), np.empty((6, 3))
-    top_q, top_v, top_a = np.empty(3), np.empty(3), np.empty(3)
-    piece = new_top_piece()
-    on_ship, top_point = m.top_on_ship, m.top_point
-    start, state_t, t0 = ip.start, ip.state, ip.t0
-    h_nom = options.h_max
-    for s in range(samples.size):
-        target = samples[s]
-        tol = 1e-12 * max(1.0, abs(target))
-        while clock[CLOCK_TIME] < target - tol:
-            t = clock[CLOCK_TIME]
-            h = h_nom
-            if interpolate:
-                # (the clock sums thousands of steps: no extra step for its round-off)
-                n_rem = math.ceil((t_land - t) / h - 1e-6)
-                h = h if n_rem > 2 else (t_land - t) / n_rem
-            else:
-                h = min(h, target - t)
-            if t + h > target + tol:  # the sample falls inside this step: keep its start
-                store_state(work, stride, q, v, a)
-                for i in range(n):
-                    start[0, i], start[1, i], start[2, i] = q[i], v[i], a[i]
-                t0[0] = t
-            prescribe_top_fast(on_ship, top_point, drive_t, drive_x, t + h, top_q, top_v, top_a, ship, basis, piece)
-            set_top(work, stride, top_q, top_v, top_a)
-            leapfrog_update(n_nodes, closed, stride, wet, body_on, water, gravity, end_mass, flow, body, hydro, kind,
-                            table, work, h)
-            clock[CLOCK_TIME] = t + h
-            stats[STAT_STEPS] += 1
-            stats[STAT_RESIDUALS] += 1
-        store_state(work, stride, q, v, a)
-        row = values[s]
-        t = clock[CLOCK_TIME]
-        if target >= t - tol:
-            explicit_outputs(wet, water, flow, elements, hydro, kind, q, v, a, row)
-        else:
-            interpolate_step(on_ship, top_point, start, t0[0], state_t, q, v, a, t, target, drive_t, drive_x, ship,
-                             basis)
-            explicit_outputs(wet, water, flow, elements, hydro, kind, state_t[0], state_t[1], state_t[2], row)
-        for k in range(row.size):
-            if not math.isfinite(row[k]):
-                return s
-    return samples.size
+    load_state(state.q, state.v, state.x, work, c.stride)
+    args = (c, work, m.top_on_ship, m.top_point, options.h_max, state, samples, drive_t, drive_x, values, ip,
+            interpolate, t_land)
+    if m.top_on_ship and drive_t.shape[0] >= 2 and c.closed and drive_is_plain(drive_x):
+        if c.stride == STRIDES[0]:
+            return _recording_plain_short(*args)
+        if c.stride == STRIDES[1]:
+            return _recording_plain_long(*args)
+    return _recording_general(*args)
