@@ -36,8 +36,8 @@ import math
 import numpy as np
 
 from ..jit.kernel_cache import njit
-from .explicit_kernel import (STEP_FASTMATH, STRIDES, LumpedCable, explicit_outputs, leapfrog_update, load_state,
-                              lumped_cable, lumped_forces, new_work, set_top, store_state, update_with)
+from .explicit_kernel import (STEP_FASTMATH, STRIDES, explicit_outputs, leapfrog_update, load_state, lumped_cable,
+                              lumped_forces, new_work, set_top, store_state, update_with)
 from .integrators import (CLOCK_TIME, STAT_RESIDUALS, STAT_STEPS, Interpolant, NodalOptions, NodalState,
                           interpolate_step, prescribe_top_with)
 from .model import NodalModel
@@ -165,17 +165,17 @@ def prescribe_top_fast(top_on_ship: bool, top_point: np.ndarray, drive_t: np.nda
 
 
 @njit(cache=True, inline="always")
-def _recording_with(plain: bool, stride: int, closed: bool, c: LumpedCable, work: np.ndarray, on_ship: bool,
-                    top_point: np.ndarray, h_nom: float, state: NodalState, samples: np.ndarray,
-                    drive_t: np.ndarray, drive_x: np.ndarray, values: np.ndarray, ip: Interpolant,
-                    interpolate: bool, t_land: float) -> int:
-    """:func:`leapfrog_recording`'s loop over the samples from the cable's tables ``c`` and its
-    rows ``work`` (loaded), with steps of ``h_nom`` [s]. ``plain`` (a literal): the top is on
+def _recording_with(plain: bool, stride: int, closed: bool, args: tuple) -> int:
+    """:func:`leapfrog_recording`'s loop over the samples; ``args``: the cable's tables ``c``
+    (:class:`~.explicit_kernel.LumpedCable`), its rows ``work`` (loaded), the model's
+    ``top_on_ship`` and ``top_point``, the step ``h_nom`` [s], then leapfrog_recording's
+    arguments from ``state`` on. ``plain`` (a literal): the top is on
     the ship and the ship rotates nowhere in the drive (the top node at every step from the
     kept piece's quintics, with no test for a rotating piece or for the general evaluation);
     ``stride``, ``closed``: the cable's (with ``plain`` literals: the step compiled for them,
     :func:`.explicit_kernel.update_with`; else the step dispatched on them,
     :func:`.explicit_kernel.leapfrog_update`)."""
+    c, work, on_ship, top_point, h_nom, state, samples, drive_t, drive_x, values, ip, interpolate, t_land = args
     # (the fields in locals: a named tuple of arrays passed inside the loop is reference-counted field by field)
     n_nodes, wet, body_on, water, gravity = c.n_nodes, c.wet, c.body_on, c.water, c.gravity
     end_mass, flow, body, table = c.end_mass, c.flow, c.body, c.table
@@ -246,31 +246,23 @@ def _recording_with(plain: bool, stride: int, closed: bool, c: LumpedCable, work
 # beside the general top's and the other strides' code made a step of the snapping cable
 # about 50 ns slower (an earlier measurement)
 @njit(cache=True, error_model="numpy", fastmath=STEP_FASTMATH)
-def _recording_plain_short(c: LumpedCable, work: np.ndarray, on_ship: bool, top_point: np.ndarray, h_nom: float,
-                           state: NodalState, samples: np.ndarray, drive_t: np.ndarray, drive_x: np.ndarray,
-                           values: np.ndarray, ip: Interpolant, interpolate: bool, t_land: float) -> int:
+def _recording_plain_short(args: tuple) -> int:
     """:func:`_recording_with` for a plain drive, closed-form drag and the first stride."""
-    return _recording_with(True, STRIDES[0], True, c, work, on_ship, top_point, h_nom, state, samples, drive_t,
-                           drive_x, values, ip, interpolate, t_land)
+    return _recording_with(True, STRIDES[0], True, args)
 
 
 @njit(cache=True, error_model="numpy", fastmath=STEP_FASTMATH)
-def _recording_plain_long(c: LumpedCable, work: np.ndarray, on_ship: bool, top_point: np.ndarray, h_nom: float,
-                          state: NodalState, samples: np.ndarray, drive_t: np.ndarray, drive_x: np.ndarray,
-                          values: np.ndarray, ip: Interpolant, interpolate: bool, t_land: float) -> int:
+def _recording_plain_long(args: tuple) -> int:
     """:func:`_recording_with` for a plain drive, closed-form drag and the second stride."""
-    return _recording_with(True, STRIDES[1], True, c, work, on_ship, top_point, h_nom, state, samples, drive_t,
-                           drive_x, values, ip, interpolate, t_land)
+    return _recording_with(True, STRIDES[1], True, args)
 
 
 @njit(cache=True, error_model="numpy", fastmath=STEP_FASTMATH)
-def _recording_general(c: LumpedCable, work: np.ndarray, on_ship: bool, top_point: np.ndarray, h_nom: float,
-                       state: NodalState, samples: np.ndarray, drive_t: np.ndarray, drive_x: np.ndarray,
-                       values: np.ndarray, ip: Interpolant, interpolate: bool, t_land: float) -> int:
+def _recording_general(args: tuple) -> int:
     """:func:`_recording_with` for any cable and drive (the step dispatched on the cable's
     stride and drag: :func:`.explicit_kernel.leapfrog_update`)."""
-    return _recording_with(False, c.stride, c.closed, c, work, on_ship, top_point, h_nom, state, samples, drive_t,
-                           drive_x, values, ip, interpolate, t_land)
+    c = args[0]
+    return _recording_with(False, c.stride, c.closed, args)
 
 
 # error_model "numpy": a division by zero gives inf or NaN (the run stops at a non-finite
@@ -301,7 +293,7 @@ def leapfrog_recording(m: NodalModel, mass: np.ndarray, options: NodalOptions, s
             interpolate, t_land)
     if m.top_on_ship and drive_t.shape[0] >= 2 and c.closed and drive_is_plain(drive_x):
         if c.stride == STRIDES[0]:
-            return _recording_plain_short(*args)
+            return _recording_plain_short(args)
         if c.stride == STRIDES[1]:
-            return _recording_plain_long(*args)
-    return _recording_general(*args)
+            return _recording_plain_long(args)
+    return _recording_general(args)
