@@ -44,7 +44,7 @@ def test_digest_follows_the_kernel_sources_and_nothing_else(tmp_path):
 #: of each phase (kernel_cache.WATCH) as JSON.
 _PHASES = textwrap.dedent("""
     import json
-    from towcable_fmu import kernel_cache
+    from towcable_fmu.jit import kernel_cache
     from towcable_fmu.models import simulation_for
     from towcable_fmu.scene import load_scene
 

@@ -67,7 +67,8 @@ class Watch(event.Listener):
 """
 
 _WATCHED_RUN = _WATCH + """
-from towcable_fmu import cli, parallel_compile
+from towcable_fmu import cli
+from towcable_fmu.jit import parallel_compile
 ahead = parallel_compile.compile_kernels
 def compile_then_watch(*args, **kwargs):
     failures = ahead(*args, **kwargs)
