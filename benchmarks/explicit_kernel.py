@@ -14,8 +14,9 @@ dry, fitted by a line: a cost per step and one per node, whose wet - dry differe
 water's share (drag and buoyancy at the Gauss points, added mass, the 3x3 solve).
 
 With ``--baseline DIR`` (a checkout of an earlier commit, e.g. ``git archive <commit> | tar
--x -C DIR``) the scene default's kernel is also timed with the package imported from DIR,
-in processes alternating with the current code's (same run, medians): the before/after.
+-x -C DIR``) the kernel and the whole run at 4, 16 (the scene default) and 40 elements are
+also timed with the package imported from DIR, in processes alternating with the current
+code's (same run, medians): the before/after.
 
 Run: ``python benchmarks/explicit_kernel.py [--baseline DIR]``. Writes ``results/explicit_kernel.md``.
 """
@@ -114,29 +115,40 @@ def split_rows() -> list[list[str]]:
 
 
 #: alternations of the before/after processes (each the median of REPEATS runs)
-ROUNDS = 3
+ROUNDS = 5
+#: the before/after cases: 4 elements at 1.27 Hz and its explicit limit, the scene default, 40 elements
+AB_CASES = (("4 elements, 1.27 Hz", 1.27, 4, None), CASES[0], CASES[2])
 
 
-def _scene_default_in_process(package_root: str | None) -> float:
-    """The scene default's kernel CPU cost [ns/node/step] measured in a new process, the
-    package imported from ``package_root`` (None: the current code)."""
+def _case_in_process(package_root: str | None, case_index: int) -> dict:
+    """:func:`kernel_cost` of ``AB_CASES[case_index]`` measured in a new process, the package
+    imported from ``package_root`` (None: the current code)."""
     env = dict(os.environ)
     if package_root is not None:
         env["PYTHONPATH"] = os.pathsep.join([package_root, env.get("PYTHONPATH", "")]).rstrip(os.pathsep)
-    out = subprocess.run([sys.executable, __file__, "--scene-default-only"], env=env, capture_output=True, text=True,
-                         check=True, cwd=Path(__file__).parent)
-    return json.loads(out.stdout.strip().splitlines()[-1])["kernel_cpu"]
+    out = subprocess.run([sys.executable, __file__, "--case-only", str(case_index)], env=env, capture_output=True,
+                         text=True, check=True, cwd=Path(__file__).parent)
+    return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def before_after(baseline: str) -> tuple[float, float]:
-    """Medians [ns/node/step] of the scene default's kernel: the code at ``baseline`` and the
-    current code, measured in alternating processes (ROUNDS each)."""
-    before, after = [], []
-    for _ in range(ROUNDS):
-        before.append(_scene_default_in_process(baseline))
-        after.append(_scene_default_in_process(None))
-    print("before", before, "after", after, file=sys.stderr)
-    return statistics.median(before), statistics.median(after)
+def before_after(baseline: str) -> list[list[str]]:
+    """Rows of the before/after table: for each of AB_CASES the medians [ns/node/step, CPU]
+    of the kernel and of the whole run with the package from ``baseline`` and with the current
+    code, measured in alternating processes (ROUNDS each, the order swapped every round)."""
+    rows = []
+    for index, (label, _, elements, _) in enumerate(AB_CASES):
+        runs = {"before": [], "after": []}
+        for r in range(ROUNDS):
+            for side in (("before", "after") if r % 2 == 0 else ("after", "before")):
+                runs[side].append(_case_in_process(baseline if side == "before" else None, index))
+        print(label, runs, file=sys.stderr)
+        med = {side: {key: statistics.median(x[key] for x in runs[side]) for key in ("kernel_cpu", "run_cpu")}
+               for side in runs}
+        b, a = med["before"], med["after"]
+        rows.append([label, str(elements), f"{b['kernel_cpu']:.1f}", f"{a['kernel_cpu']:.1f}",
+                     f"{a['kernel_cpu'] / b['kernel_cpu']:.3f}", f"{b['run_cpu']:.1f}", f"{a['run_cpu']:.1f}",
+                     f"{a['run_cpu'] / b['run_cpu']:.3f}"])
+    return rows
 
 
 def moordyn_cost() -> dict | None:
@@ -155,14 +167,15 @@ def moordyn_cost() -> dict | None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--baseline", help="a checkout of an earlier commit: its kernel timed alternately")
-    parser.add_argument("--scene-default-only", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument("--case-only", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
-    if args.scene_default_only:
-        label, f, n, h = CASES[0]
+    if args.case_only is not None:
+        label, f, n, h = AB_CASES[args.case_only]
         print(json.dumps(kernel_cost(f, n, h)))
         return
-    comparison = before_after(args.baseline) if args.baseline else None
     load = os.getloadavg()[0]
+    comparison = before_after(args.baseline) if args.baseline else None
+    load_after = os.getloadavg()[0]
     rows = []
     for label, f, n, h in CASES:
         r = kernel_cost(f, n, h)
@@ -181,9 +194,12 @@ def main() -> None:
               markdown_table(["case"] + [f"{n} el" for n in SPLIT_ELEMENTS] + ["per step [ns]", "per node [ns]"],
                              split)]
     if comparison is not None:
-        lines.append(f"\nBefore and after, the scene default's kernel CPU time in alternating processes (medians of "
-                     f"{ROUNDS} processes of {REPEATS} runs): {comparison[0]:.1f} ns/node/step with the package from "
-                     f"`--baseline` ({args.baseline}), {comparison[1]:.1f} with this commit's.\n")
+        lines += [f"\nBefore and after: CPU time [ns/node/step] with the package from `--baseline` ({args.baseline}) "
+                  f"and with this commit's, in alternating processes (the order swapped every round; medians of "
+                  f"{ROUNDS} processes, each the median of {REPEATS} runs; load average {load:.1f} at the start of "
+                  f"the comparison, {load_after:.1f} at its end):\n\n",
+                  markdown_table(["case", "elements", "kernel before", "kernel after", "after/before",
+                                  "whole run before", "whole run after", "after/before"], comparison)]
     if md is not None:
         lines.append(f"\nMoorDyn 2.7 RK4, 20 segments, 0.382 ms, 1.27 Hz, same run: {md['per_eval']:.0f} ns wall per "
                      f"node and force evaluation ({4 * md['per_eval']:.0f} per node and RK4 step, the Python coupling "
