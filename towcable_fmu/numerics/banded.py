@@ -1,4 +1,4 @@
-"""Banded LU factorisation, compiled: diagonal pivots where they are safe, partial pivoting elsewhere.
+"""Banded LU factorisation with partial pivoting, compiled.
 
 Storage is LAPACK's ``dgbtrf`` band storage, column by column: an ``n x n`` matrix with
 ``kl`` sub-diagonals and ``ku`` super-diagonals lives in ``ab`` of shape
@@ -10,20 +10,6 @@ column are workspace for the fill-in that row interchanges create. Build it with
 from inside the compiled time loop is not possible, and a Python call per step costs
 more than the step itself, so this is our own implementation of the unblocked
 algorithm (column-wise elimination, pivot search within the band).
-
-Pivoting. The iteration matrices of the cable (``M + c_v C + c_q K``) are nearly symmetric
-and positive definite, and elimination without row interchanges is stable on them, but
-they are badly scaled (slopes next to positions): partial pivoting swaps rows at about a
-third of the columns, which doubles U's bandwidth (fill-in up to ``kl + ku``) and the
-cost of the factorisation and of every back-substitution. :func:`band_lu` therefore keeps
-the diagonal pivot of column j while the current Schur complement ``S`` satisfies the
-scale-invariant test of a positive definite matrix, relaxed by :data:`DIAGONAL_BOUND`:
-``S_jj > 0``, ``S_ii > 0`` and ``|S_ij|, |S_ji| <= DIAGONAL_BOUND sqrt(S_ii S_jj)`` for every
-``i`` the step updates (a positive definite matrix meets it with bound 1, by Cauchy-Schwarz).
-Then no step changes an entry ``S_ik`` by more than ``DIAGONAL_BOUND^2 sqrt(S_ii S_kk)``.
-A column that fails the test is pivoted as LAPACK does (largest entry of the column),
-so any matrix partial pivoting factorises is factorised; a factorisation that made no
-interchange is solved with U's own bandwidth ``ku``.
 """
 
 from __future__ import annotations
@@ -32,9 +18,6 @@ import numpy as np
 
 from ..jit.kernel_cache import njit
 from .arrays import copy_into
-
-#: Relaxation of the positive-definite test under which :func:`band_lu` keeps a diagonal pivot.
-DIAGONAL_BOUND = 2.0
 
 
 def band_storage(n: int, kl: int, ku: int) -> np.ndarray:
@@ -106,30 +89,9 @@ def band_add_scattered(ab: np.ndarray, kl: int, ku: int, free_idx: np.ndarray, c
                 ab[fj, off + fi - fj] += val
 
 
-@njit(cache=True, inline="always")
-def _diagonal_is_safe(ab: np.ndarray, j: int, km: int, kv: int, last: int) -> bool:
-    """The module docstring's test of the diagonal pivot of column ``j`` (rows ``j + 1`` to
-    ``j + km`` below it, columns ``j + 1`` to ``last`` right of it)."""
-    colj = ab[j]
-    bound = DIAGONAL_BOUND * DIAGONAL_BOUND * colj[kv]
-    if not bound > 0.0:
-        return False
-    for i in range(1, km + 1):
-        sii = ab[j + i, kv]
-        x = colj[kv + i]
-        if not (sii > 0.0 and x * x <= bound * sii):
-            return False
-    for c in range(j + 1, last + 1):
-        scc = ab[c, kv]
-        x = ab[c, kv + j - c]
-        if not (scc > 0.0 and x * x <= bound * scc):
-            return False
-    return True
-
-
 @njit(cache=True)
 def band_lu(ab: np.ndarray, n: int, kl: int, ku: int, ipiv: np.ndarray) -> int:
-    """Factorise the banded matrix in place: ``P A = L U`` (pivots: module docstring).
+    """Factorise the banded matrix in place: ``P A = L U``.
 
     Parameters
     ----------
@@ -155,13 +117,12 @@ def band_lu(ab: np.ndarray, n: int, kl: int, ku: int, ipiv: np.ndarray) -> int:
         colj = ab[j]
         km = min(kl, n - 1 - j)
         jp = 0
-        if not _diagonal_is_safe(ab, j, km, kv, max(ju, min(j + ku, n - 1))):
-            best = abs(colj[kv])
-            for i in range(1, km + 1):
-                val = abs(colj[kv + i])
-                if val > best:
-                    best = val
-                    jp = i
+        best = abs(colj[kv])
+        for i in range(1, km + 1):
+            val = abs(colj[kv + i])
+            if val > best:
+                best = val
+                jp = i
         ipiv[j] = j + jp
         if colj[kv + jp] == 0.0:
             if info == 0:
@@ -196,11 +157,6 @@ def band_lu(ab: np.ndarray, n: int, kl: int, ku: int, ipiv: np.ndarray) -> int:
 def band_solve(ab: np.ndarray, n: int, kl: int, ku: int, ipiv: np.ndarray, b: np.ndarray) -> None:
     """Solve ``A x = b`` in place (``b`` becomes ``x``) with the factors of :func:`band_lu`."""
     kv = kl + ku
-    width = ku  # U's bandwidth: ku without row interchanges (no fill-in), else up to kl + ku
-    for j in range(n):
-        if ipiv[j] != j:
-            width = kv
-            break
     for j in range(n):
         p = ipiv[j]
         if p != j:
@@ -216,7 +172,7 @@ def band_solve(ab: np.ndarray, n: int, kl: int, ku: int, ipiv: np.ndarray, b: np
         b[j] /= ab[j, kv]
         bj = b[j]
         if bj != 0.0:
-            lim = min(width, j)
+            lim = min(kv, j)
             for i in range(1, lim + 1):
                 b[j - i] -= ab[j, kv - i] * bj
 
