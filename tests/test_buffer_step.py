@@ -1,8 +1,11 @@
-"""The FMU's step on its buffer of values in one compiled call (towcable_fmu.ancf.buffer_step):
-the same states and outputs as Simulation.step_row, and what step_row refuses left to it
-with nothing changed."""
+"""The FMU's step on its buffer of values in one compiled call (towcable_fmu.ancf.buffer_step),
+and as the C function the FMU's loader calls (towcable_fmu.ancf.native_step): the same
+states and outputs as Simulation.step_row, and what step_row refuses left to it with
+nothing changed."""
 
 from __future__ import annotations
+
+import ctypes
 
 import numpy as np
 
@@ -75,5 +78,64 @@ def test_refused_steps_change_nothing():
     assert not sim.step_on_values(sim.time, values, plan)
     sim._payout_limit = reference._payout_limit = sim._payout() - 1.0  # every step goes beyond
     assert not sim.step_on_values(0.01, values, plan)
+    np.testing.assert_array_equal(values, before)
+    _same_state(sim, reference)
+
+
+_C_STEP = ctypes.CFUNCTYPE(ctypes.c_int32, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_double, ctypes.c_double)
+
+
+def _native(sim: Simulation, values: np.ndarray, plan: np.ndarray):
+    """The C step of ``sim`` on ``values`` called as the loader calls it: (step(t, h) -> 0 if
+    made, its data)."""
+    address, data = sim.native_step(values.size, plan)
+    function = _C_STEP(address)
+    return (lambda t, h: function(values.ctypes.data, data.ctypes.data, t, h)), data
+
+
+def test_the_c_step_equals_step_row():
+    """The C function of the loader layer: bit-identical states and step_row's outputs in
+    the buffer; the set-point and the outputs of its last step are the Simulation's once
+    taken over."""
+    sea = motion_from_config(dict(DEFAULT_SEA))
+    rows, native = _pair()
+    values, plan = _buffer(native)
+    step, data = _native(native, values, plan)
+    setpoint = (rows._setpoint[0], 0.05)
+    for k in range(30):
+        t = rows.time
+        ship = sea.evaluate(t + 20.0)
+        row = rows.step_row((t + 0.01) - t, ship, setpoint)
+        _put_inputs(values, ship, setpoint)
+        assert step(t, 0.01) == 0
+        np.testing.assert_array_equal(values[:row.size][::-1], row)
+        for x, y in zip(rows.state, native.state):
+            np.testing.assert_array_equal(x, y)
+    native.native_steps_made(data)
+    _same_state(rows, native)
+    assert native._setpoint == setpoint
+    assert native.outputs() == rows.outputs()
+
+
+def test_the_c_step_refuses_what_step_row_must_report():
+    """A NaN input and a step that does not move forward: not made, nothing changed; a step
+    whose payout exceeds the drum: not made, and the state as before once taken over."""
+    sim, reference = _pair()
+    values, plan = _buffer(sim)
+    ship = motion_from_config(dict(DEFAULT_SEA)).evaluate(0.0)
+    _put_inputs(values, ship, sim._setpoint)
+    values[:len(sim.names)] = 7.0
+    before = values.copy()
+    values[-5] = np.nan
+    step, data = _native(sim, values, plan)
+    assert step(0.0, 0.01) != 0
+    values[-5] = before[-5]
+    assert step(0.0, 0.0) != 0
+    np.testing.assert_array_equal(values, before)
+    _same_state(sim, reference)
+    sim._payout_limit = reference._payout_limit = sim._payout() - 1.0  # every step goes beyond
+    step, data = _native(sim, values, plan)
+    assert step(0.0, 0.01) != 0
+    sim.native_steps_made(data)
     np.testing.assert_array_equal(values, before)
     _same_state(sim, reference)
