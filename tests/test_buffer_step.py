@@ -44,23 +44,37 @@ def _same_state(a: Simulation, b: Simulation) -> None:
     assert saved[0] == saved[1]
 
 
-def test_step_on_values_equals_step_row():
-    """Steps in the default sea: the compiled step on the buffer and step_row reach
-    bit-identical states, and the buffer holds step_row's outputs."""
+def _compare_with_step_row(rows: Simulation, other: Simulation, values: np.ndarray, step, taken_over=None) -> None:
+    """30 steps in the default sea: ``rows`` with step_row, ``other`` with ``step(t, h)`` (True
+    if made) on ``values``; bit-identical integrator states (without ``taken_over``, the whole
+    states) and step_row's outputs in the buffer at every step; then (after ``taken_over()``) the same whole state, set-point and
+    outputs."""
     sea = motion_from_config(dict(DEFAULT_SEA))
-    rows, buffered = _pair()
-    values, plan = _buffer(buffered)
     setpoint = (rows._setpoint[0], 0.05)
     for k in range(30):
         t = rows.time
         ship = sea.evaluate(t + 20.0)
         row = rows.step_row((t + 0.01) - t, ship, setpoint)
         _put_inputs(values, ship, setpoint)
-        assert buffered.step_on_values(t + 0.01, values, plan)
+        assert step(t, 0.01)
         np.testing.assert_array_equal(values[:row.size][::-1], row)
-        _same_state(rows, buffered)
-    assert buffered._setpoint == setpoint
-    assert buffered.outputs() == rows.outputs()
+        if taken_over is None:
+            _same_state(rows, other)
+        for x, y in zip(rows.state, other.state):
+            np.testing.assert_array_equal(x, y)
+    if taken_over is not None:
+        taken_over()
+    _same_state(rows, other)
+    assert other._setpoint == setpoint
+    assert other.outputs() == rows.outputs()
+
+
+def test_step_on_values_equals_step_row():
+    """The compiled step on the buffer and step_row reach bit-identical states, and the
+    buffer holds step_row's outputs."""
+    rows, buffered = _pair()
+    values, plan = _buffer(buffered)
+    _compare_with_step_row(rows, buffered, values, lambda t, h: buffered.step_on_values(t + h, values, plan))
 
 
 def test_refused_steps_change_nothing():
@@ -97,24 +111,11 @@ def test_the_c_step_equals_step_row():
     """The C function of the loader layer: bit-identical states and step_row's outputs in
     the buffer; the set-point and the outputs of its last step are the Simulation's once
     taken over."""
-    sea = motion_from_config(dict(DEFAULT_SEA))
     rows, native = _pair()
     values, plan = _buffer(native)
     step, data = _native(native, values, plan)
-    setpoint = (rows._setpoint[0], 0.05)
-    for k in range(30):
-        t = rows.time
-        ship = sea.evaluate(t + 20.0)
-        row = rows.step_row((t + 0.01) - t, ship, setpoint)
-        _put_inputs(values, ship, setpoint)
-        assert step(t, 0.01) == 0
-        np.testing.assert_array_equal(values[:row.size][::-1], row)
-        for x, y in zip(rows.state, native.state):
-            np.testing.assert_array_equal(x, y)
-    native.native_steps_made(data)
-    _same_state(rows, native)
-    assert native._setpoint == setpoint
-    assert native.outputs() == rows.outputs()
+    _compare_with_step_row(rows, native, values, lambda t, h: step(t, h) == 0,
+                           lambda: native.native_steps_made(data))
 
 
 def test_the_c_step_refuses_what_step_row_must_report():
