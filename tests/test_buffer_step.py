@@ -77,14 +77,20 @@ def test_step_on_values_equals_step_row():
     _compare_with_step_row(rows, buffered, values, lambda t, h: buffered.step_on_values(t + h, values, plan))
 
 
+def _refusal_setup() -> tuple[Simulation, Simulation, np.ndarray, np.ndarray]:
+    """Two simulations alike, and a buffer (with its plan) of the first holding the default
+    sea's ship state at t = 0, the set-point and outputs 7.0."""
+    sim, reference = _pair()
+    values, plan = _buffer(sim)
+    _put_inputs(values, motion_from_config(dict(DEFAULT_SEA)).evaluate(0.0), sim._setpoint)
+    values[:len(sim.names)] = 7.0
+    return sim, reference, values, plan
+
+
 def test_refused_steps_change_nothing():
     """A NaN input, a step that does not move forward and a step whose payout exceeds the
     drum are not made: False, the state and the buffer's outputs as before."""
-    sim, reference = _pair()
-    values, plan = _buffer(sim)
-    ship = motion_from_config(dict(DEFAULT_SEA)).evaluate(0.0)
-    _put_inputs(values, ship, sim._setpoint)
-    values[:len(sim.names)] = 7.0
+    sim, reference, values, plan = _refusal_setup()
     before = values.copy()
     bad = values.copy()
     bad[-5] = np.nan
@@ -121,11 +127,7 @@ def test_the_c_step_equals_step_row():
 def test_the_c_step_refuses_what_step_row_must_report():
     """A NaN input and a step that does not move forward: not made, nothing changed; a step
     whose payout exceeds the drum: not made, and the state as before once taken over."""
-    sim, reference = _pair()
-    values, plan = _buffer(sim)
-    ship = motion_from_config(dict(DEFAULT_SEA)).evaluate(0.0)
-    _put_inputs(values, ship, sim._setpoint)
-    values[:len(sim.names)] = 7.0
+    sim, reference, values, plan = _refusal_setup()
     before = values.copy()
     values[-5] = np.nan
     step, data = _native(sim, values, plan)
