@@ -67,6 +67,7 @@ class TowCable(ContractSlave):
         self.missing: list[str] = []
         self._row_copy: _RowCopy | None = None
         self._plan = None  # the Simulation's step on the shared values (Simulation.buffer_plan)
+        self._native: np.ndarray | None = None  # the data of the loader's compiled step (Simulation.native_step)
         self._built_from: tuple | None = None
         self._ship = ShipStateReader()
 
@@ -141,6 +142,19 @@ class TowCable(ContractSlave):
         copy.into_buffer(row, values)
         values[copy.timer_vr] = self._model_time
         return True
+
+    def _compiled_functions(self) -> tuple[int, int, np.ndarray] | None:
+        # the loader layer steps with the Simulation's step on the shared values as a C
+        # function (Simulation.native_step); what it did is taken over in _take_back
+        make = getattr(self.sim, "native_step", None)
+        native = None if self._plan is None or make is None else make(self._buffer_size(), self._plan)
+        self._native = None if native is None else native[1]
+        return None if native is None else (native[0], 0, native[1])
+
+    def _take_back(self) -> None:
+        super()._take_back()
+        if self._native is not None:
+            self.sim.native_steps_made(self._native)
 
     def _model_state(self) -> Any:
         return {"simulation": self.sim.get_state(), "missing": list(self.missing)}

@@ -38,6 +38,7 @@ from .forces import TABLES as TERM_TABLES, build_hooks
 from .forces.hooks import TermHooks
 from .stepper import new_stepper, save_state, step_to
 from .buffer_step import DONE, ROLL_BACK, buffer_plan, step_on_values
+from . import native_step
 from .remeshing import Remeshing
 from .state_queries import PROFILE_XI as _PROFILE_XI, StateQueries
 
@@ -576,6 +577,32 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         if status == ROLL_BACK:
             self._restore((saved, self._extra_state()))
         return False
+
+    def native_step(self, count: int, plan: np.ndarray) -> tuple[int, np.ndarray] | None:
+        """The C function that makes :meth:`step_on_values` without Python, for an FMU's
+        loader layer (:data:`~towcable_fmu.ancf.native_step.STEP`: its address), and its data
+        for a buffer of ``count`` values laid out as ``plan`` (:meth:`buffer_plan`); None if
+        the steps need Python (turbulence: its series is extended in Python). The data hold
+        until a call changes the Simulation: the caller takes the steps over first
+        (:meth:`native_steps_made`)."""
+        if self.turbulence is not None:
+            return None
+        stepper, _, _ = self._current_stepper()
+        limit = math.inf if self._payout_limit is None else self._payout_limit
+        data = native_step.step_data(stepper, count, plan, limit)
+        return None if data is None else (native_step.STEP, data)
+
+    def native_steps_made(self, data: np.ndarray) -> None:
+        """Take over what the C steps of :meth:`native_step`'s ``data`` did: the set-point and
+        the outputs of the last step made, and the rollback of one they refused (as
+        :meth:`step_on_values`); the counts in ``data`` start again."""
+        if data[native_step.STEPS] > 0.0:
+            self._setpoint = (float(data[native_step.PHI_SP]), float(data[native_step.PHI_SP_RATE]))
+            self._stepped = (self._fingerprint(), self._current_stepper()[1][0])
+            data[native_step.STEPS] = 0.0
+        if data[native_step.STATUS] == ROLL_BACK:
+            self._restore((self._current_stepper()[2], self._extra_state()))
+        data[native_step.STATUS] = DONE
 
     def _snapshot(self) -> tuple[genalpha.IntegratorState, dict[str, Any]]:
         """The state arrays, copied by one compiled call into the Stepper's saved state, and

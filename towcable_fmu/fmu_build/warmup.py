@@ -1,6 +1,7 @@
 """Compile the numerical kernels the FMUs run, by running them: every FMU of the
 contract is instantiated and initialised, and takes two communication steps, on every
-built-in scene its ``scene`` parameter accepts (the others on their defaults).
+built-in scene its ``scene`` parameter accepts (the others on their defaults); the
+ANCF cable's step for the loader layer is compiled too (not run).
 
 The build runs this in a separate Python (:mod:`towcable_fmu.fmu_build.kernels`) to fill the
 kernel cache that an FMU then carries precompiled.
@@ -40,6 +41,11 @@ def _run(cls, scene: str | None) -> None:
     ok = slave.initialized and all(slave.do_step(k * STEP, STEP) for k in range(2))
     if not ok:
         raise RuntimeError(f"warm-up of {slave.modelName} on scene {scene!r} failed: {slave.failed or 'a step failed'}")
+    # the step the loader layer calls in C (an ANCF cable's, towcable_fmu/ancf/native_step.py):
+    # compiled here, not run (this slave has no loader layer)
+    native, plan = getattr(getattr(slave, "sim", None), "native_step", None), getattr(slave, "_plan", None)
+    if native is not None and plan is not None:
+        native(int(plan.max()) + 1, plan)
 
 
 def compile_kernels(report: Callable[[str], None] = print) -> list[str]:

@@ -17,6 +17,7 @@ computed in Python by :meth:`TermHooks.values` (the run then records one sample 
 
 from __future__ import annotations
 
+import weakref
 from typing import Any
 
 import numpy as np
@@ -48,12 +49,19 @@ class TermHooks:
 
     def __init__(self, name: str, scene: Scene, sim: Any) -> None:
         self.name = name
-        self.sim = sim
+        # held weakly: the simulation holds its hooks, and a cycle would keep both (the whole
+        # model) alive until the garbage collector's next pass
+        self._sim = weakref.ref(sim)
         #: The outputs of :data:`OUTPUTS` this scene has.
         self.outputs: tuple[str, ...] = ()
         #: Fields of :class:`~towcable_fmu.ancf.output_kernel.OutputScene` the term sets (what
         #: its compiled outputs need of the scene).
         self.output_scene: dict[str, Any] = {}
+
+    @property
+    def sim(self) -> Any:
+        """The simulation the hooks belong to."""
+        return self._sim()
 
     @property
     def term(self) -> Any:
