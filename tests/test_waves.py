@@ -148,8 +148,9 @@ def test_derivatives_against_finite_differences(stretch, z, depth):
 
 
 def test_cutoff_bound():
-    """Deep points drop the short components: what is dropped is below CUTOFF times their
-    surface amplitudes, and a point below every component's reach sums nothing."""
+    """Deep points drop the short components: what is dropped adds at most THRESHOLD of the
+    sea's surface velocity and acceleration bounds, and a point below every component's
+    reach sums nothing."""
     omega = np.linspace(0.4, 2.5, 60)
     amp = np.full(60, 0.1)
     rng = np.random.default_rng(1)
@@ -157,14 +158,39 @@ def test_cutoff_bound():
     z = -40.0
     out, used = evaluate(table, None, W.STRETCH_EXTRAPOLATION, 0.0, 1.0, 2.0, z, 3.0)
     assert 0 < used < 60
-    ref = sum(airy(amp[i], table[i, W.OMEGA], table[i, W.K], None, math.atan2(table[i, W.CY], table[i, W.CX]),
-                   table[i, W.PHASE], table[i, W.OMEGA_E], 1.0, 2.0, z, 3.0)[1] for i in range(60))
-    bound = W.CUTOFF * np.sum(amp[used:] * table[used:, W.OMEGA])
-    assert np.all(np.abs(out[W.VEL:W.VEL + 3] - ref) <= bound)
-    assert np.any(np.abs(out[W.VEL:W.VEL + 3] - ref) > 0.0)
-    reach = math.log(W.CUTOFF) / table[0, W.K]  # the longest component's depth factor is CUTOFF there
-    _, used = evaluate(table, None, W.STRETCH_WHEELER, 0.0, 1.0, 2.0, reach - W.crest_bound(table) - 1.0, 3.0)
+    fields = [airy(table[i, W.A], table[i, W.OMEGA], table[i, W.K], None, math.atan2(table[i, W.CY], table[i, W.CX]),
+                   table[i, W.PHASE], table[i, W.OMEGA_E], 1.0, 2.0, z, 3.0) for i in range(60)]
+    for field, scale in ((1, np.sum(amp * omega)), (2, np.sum(amp * omega ** 2))):
+        ref = sum(f[field] for f in fields)
+        got = out[W.VEL:W.VEL + 3] if field == 1 else out[W.ACC:W.ACC + 3]
+        assert np.all(np.abs(got - ref) <= W.THRESHOLD * scale)
+        assert np.any(np.abs(got - ref) > 1e-3 * W.THRESHOLD * scale)  # something was dropped
+        left_out = sum(np.abs(f[field]) for f in fields[used:])
+        assert np.all(left_out <= W.THRESHOLD * scale / 60 * (60 - used))  # each within its share
+    deepest = table[0, W.REACH]
+    _, used = evaluate(table, None, W.STRETCH_WHEELER, 0.0, 1.0, 2.0, deepest - W.crest_bound(table) - 1.0, 3.0)
     assert used == 0
+    _, used = evaluate(table, None, W.STRETCH_EXTRAPOLATION, 0.0, 1.0, 2.0, deepest + 0.5, 3.0)
+    assert used > 0
+
+
+def test_reach_in_finite_depth():
+    """In finite depth a component's depth factor at its reach is its share of the
+    threshold, and one that stays above its share down to the bottom is never left out."""
+    omega = np.array([0.3, 0.8, 1.5, 2.4])
+    amp = np.array([0.5, 1.0, 0.3, 0.05])
+    h = 40.0
+    table = W.component_table(omega, amp, np.zeros(4), np.zeros(4), None, 0.0, h, G)
+    speed, acceleration = np.sum(amp * omega), np.sum(amp * omega ** 2)
+    for row in table:
+        a, w, k, z = row[W.A], row[W.OMEGA], row[W.K], row[W.REACH]
+        share = W.THRESHOLD / 4 * min(speed / (a * w), acceleration / (a * w * w))
+        factor = lambda zz: math.cosh(k * (zz + h)) / math.sinh(k * h)  # noqa: E731
+        if math.isinf(z):
+            assert factor(-h) > share
+        else:
+            assert -h < z < 0 and factor(z) == pytest.approx(share, rel=1e-9)
+    assert np.all(table[1:, W.REACH] >= table[:-1, W.REACH])
 
 
 def test_elevation_at_the_ship_is_the_ships_sea():

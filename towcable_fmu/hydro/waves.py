@@ -31,11 +31,13 @@ water column up to the instantaneous surface eta onto the one up to the mean lev
 ``extrapolation`` uses the linear theory below the mean level and its value plus the
 slope at the mean level above it.
 
-Cut-off: the components are sorted by wave number; at a point the sum stops at the first
-component whose depth factor C has fallen below :data:`CUTOFF` (C decreases with k at a
-given depth), and a point below the reach of the longest component skips the sum (and
-the elevation) altogether. A neglected component contributes less than CUTOFF times its
-velocity and acceleration amplitudes at the surface.
+Cut-off: a component is summed at a point only above its reach, the depth below which
+its velocity and acceleration amplitudes ``a_i omega_i C_i`` and ``a_i omega_i^2 C_i`` are
+both below ``THRESHOLD / n`` of the sea's surface bounds ``sum a_j omega_j`` and
+``sum a_j omega_j^2`` (n components): the components left out at a point add up to at most
+:data:`THRESHOLD` of those bounds. The table is sorted by reach, so the sum at a point
+stops at the first component out of reach, and a point below the reach of every component
+skips the sum (and the elevation) altogether.
 
 Neglected: second-order (Stokes, difference-frequency) waves, the diffraction and
 radiation by the body and the ship (the cable and the body are small against the wave
@@ -55,25 +57,25 @@ from ..jit.kernel_cache import njit
 from ..scene.model import Scene
 from .water import WaterModel, flow
 
-#: Depth factor below which a component is left out of the sum at a point [-]
-CUTOFF = 1e-4
+#: The most that the components left out at a point add to the velocity and the
+#: acceleration, as a fraction of the sea's surface bounds sum a_i omega_i [m/s] and
+#: sum a_i omega_i^2 [m/s^2] [-]
+THRESHOLD = 1e-3
 #: ``[water] stretching`` names and their codes
 STRETCH_WHEELER = 0
 STRETCH_EXTRAPOLATION = 1
 STRETCHINGS = {"wheeler": STRETCH_WHEELER, "extrapolation": STRETCH_EXTRAPOLATION}
 #: Columns of the component table: amplitude [m], wave number k [1/m], direction cos mu
 #: and sin mu, frequency omega [rad/s], encounter frequency omega_e [rad/s], phase [rad],
-#: exp(-2 k h) and 1 / (1 - exp(-2 k h)) (0 and 1 in deep water)
-A, K, CX, CY, OMEGA, OMEGA_E, PHASE, E2, NORM = range(9)
-COLUMNS = 9
+#: exp(-2 k h) and 1 / (1 - exp(-2 k h)) (0 and 1 in deep water), the reach [m] (the height
+#: from the mean level below which the component is left out; -inf: nowhere)
+A, K, CX, CY, OMEGA, OMEGA_E, PHASE, E2, NORM, REACH = range(10)
+COLUMNS = 10
 #: Layout of the output of :func:`wave_at`: elevation eta [m], its slopes d eta/dx and
 #: d eta/dy [-], velocity (3) [m/s], acceleration (3) [m/s^2], then (with gradients) the
 #: velocity's and the acceleration's derivatives d(.)_c/dx_m, row-major (9 each)
 ETA, ETA_X, ETA_Y, VEL, ACC, DVEL, DACC = 0, 1, 2, 3, 6, 9, 18
 OUT_SIZE = 27
-#: Accumulators per output quantity (velocity 3 + acceleration 3): value, z-slope,
-#: x- and y-derivatives of both
-_ACC_SIZE = 36
 
 
 def dispersion(omega: np.ndarray, depth: float | None, gravity: float) -> np.ndarray:
@@ -97,7 +99,7 @@ def dispersion(omega: np.ndarray, depth: float | None, gravity: float) -> np.nda
 def component_table(omega: np.ndarray, amplitude: np.ndarray, phase: np.ndarray, heading: np.ndarray,
                     omega_e: np.ndarray | None, speed: float, depth: float | None,
                     gravity: float) -> np.ndarray:
-    """The kernels' table (n, :data:`COLUMNS`) of wave components, sorted by wave number.
+    """The kernels' table (n, :data:`COLUMNS`) of wave components, sorted by reach.
 
     Parameters
     ----------
@@ -117,9 +119,27 @@ def component_table(omega: np.ndarray, amplitude: np.ndarray, phase: np.ndarray,
     if omega_e is None or depth is not None:
         omega_e = omega - k * speed * np.cos(heading)
     e2 = np.zeros_like(k) if depth is None else np.exp(-2.0 * k * depth)
-    table = np.column_stack([amplitude, k, np.cos(heading), np.sin(heading), omega, omega_e, phase, e2,
-                             1.0 / (1.0 - e2)])
-    return np.ascontiguousarray(table[np.argsort(k, kind="stable")])
+    norm = 1.0 / (1.0 - e2)
+    reach = _reach(omega, np.abs(amplitude), k, e2, norm)
+    table = np.column_stack([amplitude, k, np.cos(heading), np.sin(heading), omega, omega_e, phase, e2, norm, reach])
+    return np.ascontiguousarray(table[np.argsort(reach, kind="stable")])
+
+
+def _reach(omega: np.ndarray, amplitude: np.ndarray, k: np.ndarray, e2: np.ndarray, norm: np.ndarray) -> np.ndarray:
+    """The components' reach [m] (:data:`REACH`): the height z where the depth factor
+    ``C = norm (exp(k z) + e2 exp(-k z))`` falls to the largest value at which both the
+    velocity and the acceleration amplitudes are below ``THRESHOLD / n`` of the sea's
+    bounds; -inf where the factor stays above it down to the bottom, 0 where the component
+    is below it at the surface already (never summed)."""
+    speed, acceleration = amplitude * omega, amplitude * omega ** 2
+    with np.errstate(divide="ignore"):
+        limit = THRESHOLD / omega.size * np.minimum(np.sum(speed) / speed, np.sum(acceleration) / acceleration)
+    # norm (u + e2 / u) = limit with u = exp(k z): the root above the bottom (u >= sqrt(e2))
+    ratio = limit / norm
+    disc = ratio ** 2 - 4.0 * e2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        z = np.log(0.5 * (ratio + np.sqrt(np.maximum(disc, 0.0)))) / k
+    return np.where(disc < 0.0, -np.inf, np.minimum(z, 0.0))
 
 
 def sea_of(scene: Scene):
@@ -206,7 +226,88 @@ def elevation(table: np.ndarray, ramp: float, x: float, y: float, t: float) -> t
 @njit(cache=True, inline="always")
 def scratch_size(table: np.ndarray) -> int:
     """Length of the work array :func:`wave_at` needs."""
-    return 2 * table.shape[0] + _ACC_SIZE
+    return 2 * table.shape[0]
+
+
+@njit(cache=True, inline="always")
+def _depth_factors(table: np.ndarray, i: int, z: float, deep: bool) -> tuple:
+    """Component i's depth factors C and S [-] at the height z <= 0 [m] from the mean level."""
+    e = math.exp(table[i, K] * z)
+    if deep:
+        return e, e
+    far = table[i, E2] / e
+    return table[i, NORM] * (e + far), table[i, NORM] * (e - far)
+
+
+@njit(cache=True)
+def _sums(table: np.ndarray, used: int, z: float, deep: bool, slopes: bool, cs: np.ndarray, sn: np.ndarray) -> tuple:
+    """The sums over the first ``used`` components at the height z <= 0 [m] (phases' cos and
+    sin in ``cs``, ``sn``), without the ramp: the velocity (3) [m/s] and acceleration (3)
+    [m/s^2], and with ``slopes`` the independent entries of their gradients (both are
+    symmetric and trace-free in potential flow): d/dx of u_x, d/dy of u_x, d/dy of u_y,
+    d/dz of u_x and u_y [1/s], then the same of the acceleration [1/s^2]."""
+    ux = uy = uz = ax = ay = az = 0.0
+    uxx = uxy = uyy = uxz = uyz = axx = axy = ayy = axz = ayz = 0.0
+    for i in range(used):
+        ch, sh = _depth_factors(table, i, z, deep)
+        q = table[i, A] * table[i, OMEGA]
+        w = table[i, OMEGA]
+        dx = table[i, CX]
+        dy = table[i, CY]
+        qc = q * ch * cs[i]
+        qs = q * ch * sn[i]
+        rc = q * sh * cs[i]
+        rs = q * sh * sn[i]
+        # u = (C c dx, C c dy, -S s) q; a = (-C s dx, -C s dy, -S c) q w
+        ux += dx * qc
+        uy += dy * qc
+        uz -= rs
+        ax -= w * dx * qs
+        ay -= w * dy * qs
+        az -= w * rc
+        if slopes:  # d theta/dx_m = -k d_m, C' = k S, S' = k C
+            k = table[i, K]
+            kqs = k * qs
+            kqc = w * k * qc
+            krc = k * rc
+            krs = w * k * rs
+            uxx += dx * dx * kqs
+            uxy += dx * dy * kqs
+            uyy += dy * dy * kqs
+            uxz += dx * krc
+            uyz += dy * krc
+            axx += dx * dx * kqc
+            axy += dx * dy * kqc
+            ayy += dy * dy * kqc
+            axz -= dx * krs
+            ayz -= dy * krs
+    return (ux, uy, uz, ax, ay, az), (uxx, uxy, uyy, uxz, uyz, axx, axy, ayy, axz, ayz)
+
+
+@njit(cache=True)
+def _slope_derivatives(table: np.ndarray, used: int, cs: np.ndarray, sn: np.ndarray) -> np.ndarray:
+    """The horizontal derivatives d/dx_m of the z-slopes of the velocity and the
+    acceleration at the mean level (rows m = x, y; columns u_x, u_y, u_z, a_x, a_y, a_z), the
+    second derivatives linear extrapolation needs above the mean level."""
+    d = np.zeros((2, 6))
+    for i in range(used):
+        ch, sh = _depth_factors(table, i, 0.0, False)
+        q = table[i, A] * table[i, OMEGA]
+        w = table[i, OMEGA]
+        k = table[i, K]
+        dx = table[i, CX]
+        dy = table[i, CY]
+        c = cs[i]
+        s = sn[i]
+        for m in range(2):
+            qkk = q * k * k * (dx if m == 0 else dy)
+            d[m, 0] += qkk * sh * s * dx
+            d[m, 1] += qkk * sh * s * dy
+            d[m, 2] += qkk * ch * c
+            d[m, 3] += qkk * w * sh * c * dx
+            d[m, 4] += qkk * w * sh * c * dy
+            d[m, 5] -= qkk * w * ch * s
+    return d
 
 
 @njit(cache=True)
@@ -219,7 +320,7 @@ def wave_at(table: np.ndarray, depth: float, stretch: int, ramp: float, crest: f
     slopes, the particle velocity [m/s] and the fluid's acceleration [m/s^2], and with
     ``gradients`` their derivatives with respect to the point [1/s, 1/s^2] (the stretched
     height's dependence on the point and on eta included). ``work``: at least
-    ``2 n + 36`` floats. Returns the number of components summed for the kinematics
+    ``2 n`` floats. Returns the number of components summed for the kinematics
     (0: the point is out of every component's reach, all zero except eta, which is then
     not computed either and left 0)."""
     for j in range(OUT_SIZE):
@@ -234,14 +335,11 @@ def wave_at(table: np.ndarray, depth: float, stretch: int, ramp: float, crest: f
         z_hi = z + top if deep else depth * (z + top) / (depth - top) if depth > top else 0.0
     else:
         z_hi = z
-    z_hi = min(z_hi, 0.0)
-    k0 = table[0, K]
-    if table[0, NORM] * (math.exp(k0 * z_hi) + table[0, E2] * math.exp(-k0 * z_hi)) < CUTOFF:
+    if not table[0, REACH] < min(z_hi, 0.0):
         return 0
     f0, f1 = ramp_factor(t, ramp)
     cs = work[:n]
     sn = work[n:2 * n]
-    acc = work[2 * n:2 * n + _ACC_SIZE]
     eta, ex, ey = _phases(table, x, y, t, cs, sn)
     eta *= f0
     ex *= f0
@@ -272,72 +370,26 @@ def wave_at(table: np.ndarray, depth: float, stretch: int, ramp: float, crest: f
         if above > 0.0:
             gz = 0.0
             dz_lin = 1.0
-    for j in range(_ACC_SIZE):
-        acc[j] = 0.0
     used = 0
-    for i in range(n):
-        k = table[i, K]
-        e = math.exp(k * z_e)
-        if deep:
-            ch = e
-            sh = e
-        else:
-            far = table[i, E2] / e
-            ch = table[i, NORM] * (e + far)
-            sh = table[i, NORM] * (e - far)
-        if ch < CUTOFF:
-            break
+    while used < n and table[used, REACH] < z_e:
         used += 1
-        c = cs[i]
-        s = sn[i]
-        q = table[i, A] * table[i, OMEGA]
-        w = table[i, OMEGA]
-        dx = table[i, CX]
-        dy = table[i, CY]
-        # value: u = q (C c dx, C c dy, -S s); a = q w (-C s dx, -C s dy, -S c)
-        acc[0] += q * ch * c * dx
-        acc[1] += q * ch * c * dy
-        acc[2] -= q * sh * s
-        acc[3] -= q * w * ch * s * dx
-        acc[4] -= q * w * ch * s * dy
-        acc[5] -= q * w * sh * c
-        if gradients or above > 0.0:  # z-slope: C' = k S, S' = k C
-            qk = q * k
-            acc[6] += qk * sh * c * dx
-            acc[7] += qk * sh * c * dy
-            acc[8] -= qk * ch * s
-            acc[9] -= qk * w * sh * s * dx
-            acc[10] -= qk * w * sh * s * dy
-            acc[11] -= qk * w * ch * c
-        if gradients:  # horizontal derivatives (d theta/dx_m = -k_m) of the value and of the z-slope
-            for m in range(2):
-                km = k * (dx if m == 0 else dy)
-                b = 12 + 12 * m
-                acc[b + 0] += q * km * ch * s * dx
-                acc[b + 1] += q * km * ch * s * dy
-                acc[b + 2] += q * km * sh * c
-                acc[b + 3] += q * w * km * ch * c * dx
-                acc[b + 4] += q * w * km * ch * c * dy
-                acc[b + 5] -= q * w * km * sh * s
-                acc[b + 6] += q * k * km * sh * s * dx
-                acc[b + 7] += q * k * km * sh * s * dy
-                acc[b + 8] += q * k * km * ch * c
-                acc[b + 9] += q * w * k * km * sh * c * dx
-                acc[b + 10] += q * w * k * km * sh * c * dy
-                acc[b + 11] -= q * w * k * km * ch * s
+    value, grad = _sums(table, used, z_e, deep, gradients or above > 0.0, cs, sn)
+    uxx, uxy, uyy, uxz, uyz, axx, axy, ayy, axz, ayz = grad
+    z_slope = (uxz, uyz, -uxx - uyy, axz, ayz, -axx - ayy)
     for c3 in range(3):
-        uv = acc[c3] + above * acc[6 + c3]
-        av = acc[3 + c3] + above * acc[9 + c3]
+        uv = value[c3] + above * z_slope[c3]
+        av = value[3 + c3] + above * z_slope[3 + c3]
         out[VEL + c3] = f0 * uv
         out[ACC + c3] = f0 * av + f1 * uv
     if gradients:
-        g = (gx, gy, gz)
+        g = (gx, gy, gz + dz_lin)
+        horizontal = ((uxx, uxy, uxz, axx, axy, axz), (uxy, uyy, uyz, axy, ayy, ayz))
+        second = _slope_derivatives(table, used, cs, sn) if above > 0.0 else np.zeros((2, 6))
         for c6 in range(6):
             for m in range(3):
-                d = acc[6 + c6] * (g[m] + (dz_lin if m == 2 else 0.0))
+                d = z_slope[c6] * g[m]
                 if m < 2:
-                    b = 12 + 12 * m
-                    d += acc[b + c6] + above * acc[b + 6 + c6]
+                    d += horizontal[m][c6] + above * second[m, c6]
                 if c6 < 3:
                     out[DVEL + 3 * c6 + m] += f0 * d
                     out[DACC + 3 * c6 + m] += f1 * d
