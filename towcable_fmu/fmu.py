@@ -9,8 +9,9 @@ thrust and heave references, the ship and winch inputs are not used). "Simulatio
 is whichever of them the scene asks for.
 
 Parameters: ``scene`` (a built-in scene name or a path to a scene TOML file),
-``overrides`` (``KEY=VALUE`` items as for ``towcable --set``, separated by ``;``) and a
-few common overrides named by their scene keys (``solver.time_step``,
+``overrides`` (``KEY=VALUE`` items as for ``towcable --set``, separated by ``;``),
+``motion.config`` (the sea of the waves in the water as ShipMotion's ``motion.config``:
+give both FMUs the same value; empty: the scene's ``[motion]``) and a few common overrides named by their scene keys (``solver.time_step``,
 ``solver.rho_inf``, ``towbody.mass``; their sentinel values 0 / -1 keep the scene's).
 Inputs: the 18 ``ship.*`` signals and ``winch.phi_sp``, ``winch.phi_sp_rate``.
 
@@ -42,17 +43,23 @@ from .common.errors import SceneError
 from .models import model_kind, simulation_for
 from .fmi.slave import ContractSlave, ShipStateReader, ship_signal_names
 from .scene import load_scene, parse_overrides
+from .scene.sea import motion_override
 
 #: Numeric parameters that override a scene key, with the value that means "keep the scene's".
 OVERRIDE_PARAMETERS = {"solver.time_step": 0.0, "solver.rho_inf": -1.0, "towbody.mass": 0.0}
 
 
 def scene_overrides(p: dict[str, Any]) -> list[tuple[str, Any]]:
-    """Scene overrides from the TowCable parameters (name -> value)."""
+    """Scene overrides from the TowCable parameters (name -> value); a ``motion.config``
+    replaces the scene's whole ``[motion]`` (the sea of its waves), as it replaces
+    ShipMotion's parameters."""
     items = parse_overrides(str(p.get("overrides", "")))
     for key, keep in OVERRIDE_PARAMETERS.items():
         if key in p and p[key] != keep:
             items.append((key, p[key]))
+    sea = str(p.get("motion.config", "")).strip()
+    if sea:
+        items.append(motion_override(sea))
     return items
 
 
@@ -95,6 +102,14 @@ class TowCable(ContractSlave):
         parts = {"ancf": "ANCF elements", "nodal_position": "nodal-position elements", "rigid_link": "rigid links"}
         self.log(f"{self.instance_name}: scene '{self.values['scene']}' ({self.sim.scene.title}); "
                  f"{self.sim.n_elements} {parts[kind]}; initialised")
+        water = getattr(self.sim.scene, "water", None)
+        if water is not None and water.waves != "off":
+            from .hydro.waves import sea_of
+
+            self.log(f"{self.instance_name}: waves in the water from the sea of its [motion] ("
+                     + (f"motion.config '{self.values['motion.config']}'" if self.values["motion.config"].strip()
+                        else "the scene's own") + f"): {sea_of(self.sim.scene).description}; ShipMotion must "
+                     "have the same sea (give both FMUs the same motion.config)")
         if kind == "rigid_link":
             self.log(f"{self.instance_name}: the rigid-link tug is driven by the scene's thrust and heave "
                      "references; the ship.* and winch inputs are not used")

@@ -83,6 +83,7 @@ def run_cosim(config: CosimConfig, progress: Callable[[float, float], None] | No
     if config.theta_nom is not None:
         params["HeaveCompensation"]["theta_nom"] = float(config.theta_nom)
     params["HeaveCompensation"].update(config.controller_parameters)
+    _share_the_sea(config, scene, params["ShipMotion"], params["TowCable"])
 
     inst: dict[str, FmuInstance] = {}
     t_init = time.perf_counter()
@@ -98,6 +99,29 @@ def run_cosim(config: CosimConfig, progress: Callable[[float, float], None] | No
     finally:
         for fmu in inst.values():
             fmu.free()
+
+
+def _share_the_sea(config: CosimConfig, scene, ship: dict, cable: dict) -> None:
+    """A scene with waves in the water: one ``motion.config`` for ShipMotion and TowCable
+    (ShipMotion's sea, :func:`~towcable_fmu.cosim.sea.shared_motion_config`), unless the
+    configuration gives TowCable its own, which must then be the same sea.
+
+    Raises
+    ------
+    SceneError
+        TowCable's sea differs from ShipMotion's (the message names both).
+    """
+    water = getattr(scene, "water", None)
+    if water is None or water.waves == "off":
+        return
+    from ..scene import load_scene
+    from ..scene.sea import motion_override
+    from .sea import check_same_sea, shared_motion_config
+
+    ship["motion.config"] = shared_motion_config(ship)
+    cable.setdefault("motion.config", ship["motion.config"])
+    cable_scene = load_scene(config.scene, [*config.overrides, motion_override(cable["motion.config"])])
+    check_same_sea(ship, cable, cable_scene)
 
 
 def _routes(inst: Mapping[str, FmuInstance], target: str) -> tuple[list[int], list[tuple[str, int]]]:
