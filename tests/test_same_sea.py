@@ -1,6 +1,7 @@
 """One sea for ShipMotion and TowCable (issue 42 item 4): the master and the SSP file give
-both FMUs one ``motion.config``, and the realisation each FMU builds from its own
-parameters, by its own code path, is the same sea.
+ShipMotion a ``motion.config`` and TowCable the same text as the item ``motion = {...}`` of
+its ``overrides``, and the realisation each FMU builds from its own parameters, by its own
+code path, is the same sea.
 
 Ship side: ShipMotion's parameters read as the FMU reads them
 (:func:`ship_motion.fmu.motion_table`), the ship's elevation
@@ -83,8 +84,8 @@ def cosim_parameters(fmu_paths):
 
 def test_master_gives_both_fmus_one_sea(cosim_parameters):
     ship, cable = cosim_parameters["ShipMotion"], cosim_parameters["TowCable"]
-    assert ship["motion.config"] == cable["motion.config"]
-    assert "seed = 7" in ship["motion.config"]
+    assert cable["overrides"].endswith("; " + ship["motion.config"])
+    assert ship["motion.config"].startswith("motion = {") and "seed = 7" in ship["motion.config"]
     assert same_sea(ship, cable)
     # the override reached the sea: seed 7, not the scene's 22
     assert not same_sea({"motion.config": SCENE}, cable)
@@ -97,11 +98,12 @@ def test_ssp_file_gives_both_fmus_one_sea(cosim_parameters):
     values = {}
     for comp in root.iter(f"{{{NS['ssd']}}}Component"):
         for par in comp.iter(f"{{{NS['ssv']}}}Parameter"):
-            if par.get("name") == "motion.config":
+            if par.get("name") in ("motion.config", "overrides"):
                 values[comp.get("name")] = par.find(f"{{{NS['ssv']}}}String").get("value")
-    assert values["ShipMotion"] == values["TowCable"] == cosim_parameters["ShipMotion"]["motion.config"]
+    assert values["ShipMotion"] == cosim_parameters["ShipMotion"]["motion.config"]
+    assert values["TowCable"].endswith("; " + values["ShipMotion"])
     assert same_sea({"motion.config": values["ShipMotion"]}, {**cosim_parameters["TowCable"],
-                                                             "motion.config": values["TowCable"]})
+                                                             "overrides": values["TowCable"]})
 
 
 @pytest.mark.parametrize("key, value, named", [("seed", 8, "seed 8"), ("heading", 140.0, "heading 140 deg")])
@@ -114,14 +116,14 @@ def test_a_different_seed_or_heading_is_another_sea(cosim_parameters, key, value
 
     ship, cable = cosim_parameters["ShipMotion"], cosim_parameters["TowCable"]
     table = tomllib.loads(ship["motion.config"])["motion"]
-    other = {**cable, "motion.config": motion_config_text({**table, key: value})}
+    other = {**cable, "overrides": motion_config_text({**table, key: value})}
     assert not same_sea(ship, other)
     config = CosimConfig(scene=SCENE, overrides=[("motion.seed", 7)], duration=0.02, step=0.01,
-                         cable_parameters={"motion.config": other["motion.config"]})
+                         cable_parameters={"overrides": other["overrides"]})
     with pytest.raises(SceneError) as info:
         run_cosim(config, echo=False, fmus={})
     message = str(info.value)
-    assert "TowCable motion.config" in message and "seed 7" in message and named in message
+    assert "TowCable overrides" in message and "seed 7" in message and named in message
 
 
 def test_components_in_another_order_are_another_sea(cosim_parameters):
@@ -143,7 +145,7 @@ def test_individual_ship_parameters_become_the_shared_sea(fmu_paths):
                          ship_parameters={"motion.type": "irregular", "motion.seed": 3, "motion.hs": 2.0})
     params = run_cosim(config, echo=False, fmus=fmu_paths).parameters
     ship, cable = params["ShipMotion"], params["TowCable"]
-    assert ship["motion.config"] == cable["motion.config"] and "hs = 2.0" in ship["motion.config"]
+    assert cable["overrides"] == ship["motion.config"] and "hs = 2.0" in ship["motion.config"]
     assert same_sea({k: v for k, v in ship.items() if k != "motion.config"}, cable)
 
 
@@ -154,15 +156,15 @@ def test_waves_without_a_sea_are_refused():
         run_cosim(CosimConfig(scene=SCENE, duration=0.01, step=0.01, motion="none"), echo=False, fmus={})
 
 
-def test_towcable_fmu_takes_its_sea_from_motion_config(fmu_paths):
-    """The TowCable FMU builds its waves from motion.config (its log names the sea) and
-    refuses one without a sea for its waves, naming the key."""
+def test_towcable_fmu_takes_its_sea_from_its_overrides(fmu_paths):
+    """The TowCable FMU builds its waves from the 'motion = {...}' item of its overrides (its
+    log names the sea) and refuses one without a sea for its waves, naming the key."""
     from fmpy.fmi1 import FMICallException
 
     from fmu_util import open_fmu, set_inputs, ship_inputs
 
     for config, ok in (('motion = {type = "irregular", seed = 5}', True), ('motion = {type = "none"}', False)):
-        fmu = open_fmu(fmu_paths, "TowCable", {"scene": SCENE, "motion.config": config})
+        fmu = open_fmu(fmu_paths, "TowCable", {"scene": SCENE, "overrides": config})
         set_inputs(fmu, ship_inputs(np.zeros((3, 6))))
         mark = len(fmu.messages)
         if ok:
@@ -173,3 +175,32 @@ def test_towcable_fmu_takes_its_sea_from_motion_config(fmu_paths):
                 fmu.fmu.exitInitializationMode()
             assert "water.waves" in fmu.log_text(mark)
         fmu.free()
+
+
+@pytest.mark.parametrize("ship_seed, warned", [(5, False), (6, True)])
+def test_towcable_fmu_warns_when_the_ship_moves_by_another_sea(fmu_paths, ship_seed, warned):
+    """A host that gives ShipMotion another sea than TowCable: TowCable sees it in the ship
+    inputs after the ramp and warns once, naming the input, both values and its sea; the
+    ship of TowCable's own sea gives no warning."""
+    from ship_motion import motion_from_config
+
+    from fmu_util import open_fmu, set_inputs, ship_inputs
+
+    ship = motion_from_config({"type": "irregular", "seed": ship_seed})
+    fmu = open_fmu(fmu_paths, "TowCable", {"scene": SCENE, "overrides": 'motion = {type = "irregular", seed = 5}'})
+    set_inputs(fmu, ship_inputs(ship.evaluate(0.0)))
+    fmu.exit_initialization()
+    mark = len(fmu.messages)
+    t, dt = 0.0, 0.5
+    while t < 21.0:  # the ramp ends at 20 s
+        set_inputs(fmu, ship_inputs(ship.evaluate(t)))
+        fmu.fmu.doStep(t, dt)
+        t += dt
+    warnings = [text for status, text in fmu.messages[mark:] if status == 1]
+    fmu.free()
+    if not warned:
+        assert warnings == []
+        return
+    assert len(warnings) == 1
+    assert "t = 20 s" in warnings[0] and "seed 5" in warnings[0] and "overrides" in warnings[0]
+    assert "ship input ship." in warnings[0]

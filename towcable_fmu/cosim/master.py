@@ -102,9 +102,11 @@ def run_cosim(config: CosimConfig, progress: Callable[[float, float], None] | No
 
 
 def _share_the_sea(config: CosimConfig, scene, ship: dict, cable: dict) -> None:
-    """A scene with waves in the water: one ``motion.config`` for ShipMotion and TowCable
-    (ShipMotion's sea, :func:`~towcable_fmu.cosim.sea.shared_motion_config`), unless the
-    configuration gives TowCable its own, which must then be the same sea.
+    """A scene with waves in the water: one sea for ShipMotion and TowCable. ShipMotion's
+    sea (:func:`~towcable_fmu.cosim.sea.shared_motion_config`) as TOML text ``motion = {...}``
+    becomes ShipMotion's ``motion.config`` and the last item of TowCable's ``overrides``
+    (the same text), unless the configuration gives TowCable its own ``overrides``, whose
+    sea must then be ShipMotion's.
 
     Raises
     ------
@@ -114,14 +116,14 @@ def _share_the_sea(config: CosimConfig, scene, ship: dict, cable: dict) -> None:
     water = getattr(scene, "water", None)
     if water is None or water.waves == "off":
         return
-    from ..scene import load_scene
-    from ..scene.sea import motion_override
+    from ..scene import load_scene, parse_overrides
+    from ..scene.sea import motion_config_table, motion_config_text
     from .sea import check_same_sea, shared_motion_config
 
-    ship["motion.config"] = shared_motion_config(ship)
-    cable.setdefault("motion.config", ship["motion.config"])
-    cable_scene = load_scene(config.scene, [*config.overrides, motion_override(cable["motion.config"])])
-    check_same_sea(ship, cable, cable_scene)
+    ship["motion.config"] = motion_config_text(motion_config_table(shared_motion_config(ship)))
+    if "overrides" not in config.cable_parameters:
+        cable["overrides"] = "; ".join(item for item in (cable["overrides"], ship["motion.config"]) if item)
+    check_same_sea(ship, cable, load_scene(cable["scene"], parse_overrides(cable["overrides"])))
 
 
 def _routes(inst: Mapping[str, FmuInstance], target: str) -> tuple[list[int], list[tuple[str, int]]]:

@@ -1,12 +1,13 @@
-"""One sea for ShipMotion and TowCable: the ``motion.config`` both FMUs get, and the check
-that the ship's sea and the waves in TowCable's water are one realisation.
+"""One sea for ShipMotion and TowCable: the ``motion.config`` ShipMotion gets (and TowCable
+as the item ``motion = {...}`` of its ``overrides``), and the check that the ship's sea and
+the waves in TowCable's water are one realisation.
 
 A scene with waves in the water (``[water] waves = "motion"``) takes them from its
 ``[motion]``; in a co-simulation the ship moves by ShipMotion's parameters instead. The
 master (:func:`towcable_fmu.cosim.master.run_cosim`) therefore reduces ShipMotion's sea to
-one ``motion.config`` value (:func:`shared_motion_config`), gives it to both FMUs (and so
-to the SSP file), and refuses a TowCable ``motion.config`` given apart from it that
-describes another sea (:func:`sea_mismatch`).
+one ``[motion]`` table (:func:`shared_motion_config`), gives its TOML text to both FMUs
+(and so to the SSP file), and refuses TowCable ``overrides`` given apart from it that
+describe another sea (:func:`sea_mismatch`).
 """
 
 from __future__ import annotations
@@ -93,9 +94,10 @@ def check_same_sea(ship: Mapping[str, Any], cable: Mapping[str, Any], cable_scen
     Raises
     ------
     SceneError
-        Naming TowCable's ``motion.config`` and both seas.
+        Naming TowCable's ``overrides`` and both seas.
     """
     problem = sea_mismatch(ship, cable_scene)
     if problem:
-        raise SceneError("TowCable motion.config", cable.get("motion.config", ""),
-                         f"the sea ShipMotion is given (its motion.config or motion.* parameters); {problem}")
+        raise SceneError("TowCable overrides", cable.get("overrides", ""),
+                         f"the sea ShipMotion is given (its motion.config or motion.* parameters) as the item "
+                         f"'motion = {{...}}'; {problem}")

@@ -1,10 +1,11 @@
-"""The sea of a scene given as the ShipMotion FMU gives it: a ``motion.config`` value.
+"""A ship's sea as the ShipMotion FMU's ``motion.config`` names it, as a ``[motion]`` table
+and as TOML text, for the TowCable FMU's scene.
 
 The TowCable FMU's waves (``[water] waves = "motion"``) are the sea of its scene's
-``[motion]``; its parameter ``motion.config`` replaces that table with the one a
-ShipMotion ``motion.config`` names (TOML text, a TOML file or a built-in scene; read by
-:func:`ship_motion.fmu.motion_table`, the ShipMotion FMU's own reading), so that one value
-given to both FMUs gives both the same realisation. Relative file paths in the table (an
+``[motion]``; the item ``motion = {...}`` of its ``overrides`` replaces that table. A
+ShipMotion ``motion.config`` (TOML text, a TOML file or a built-in scene; read by
+:func:`ship_motion.fmu.motion_table`, the ShipMotion FMU's own reading) becomes that item
+here, so that both FMUs get the same realisation. Relative file paths in the table (an
 RAO or a spectrum file) are made absolute against the folder they are relative to, so the
 table means the same inside the TowCable's scene, whose own folder may be another.
 """
@@ -46,11 +47,6 @@ def motion_config_table(config: str) -> dict[str, Any]:
 
     table, base = motion_table({"motion.config": config})
     return absolute_paths(table, base)
-
-
-def motion_override(config: str) -> tuple[str, dict[str, Any]]:
-    """The scene override that makes ``motion.config`` the scene's ``[motion]``."""
-    return "motion", motion_config_table(config)
 
 
 def motion_config_text(table: Mapping[str, Any], base: Path | None = None) -> str:

@@ -138,7 +138,8 @@ def simplified_method(scene, sheave_velocity_amplitude: float, hoist_speed: floa
     f_rho = rho * g * 0.5 * volume
     f_hyd = math.hypot(f_d + f_slam, f_m - f_rho)
     f_no_slam = math.hypot(f_d, f_m - f_rho)
-    return {"F_hyd_no_slam": f_no_slam, "hs": hs, "tz": tz, "zeta_a": zeta, "d": d, "v_w": v_w, "a_w": a_w, "v_ct": v_ct, "a_ct": a_ct,
+    return {"F_hyd_no_slam": f_no_slam, "hs": hs, "tz": tz, "zeta_a": zeta, "d": d, "v_w": v_w, "a_w": a_w,
+            "v_ct": v_ct, "a_ct": a_ct,
             "v_c": hoist_speed, "v_r": v_r, "volume": volume, "a33": a33, "cda": cda, "slam_area": area,
             "F_D": f_d, "F_slam": f_slam, "F_M": f_m, "F_rho": f_rho, "F_hyd": f_hyd,
             "F_static_min": body.net_weight, "components": int(sea.waves.omega.size)}
@@ -154,13 +155,15 @@ def sheave_vertical_velocity(scene, seed: int) -> np.ndarray:
 
 def table(stats: dict, hand: dict) -> str:
     """The Markdown table of the results."""
-    rows = ["| seed | waves | lifted out | body force mean [N] | std [N] | max [N] | min [N] | slack events | spool max [N] "
+    rows = ["| seed | waves | lifted out | body force mean [N] | std [N] | max [N] | min [N] | slack events "
+            "| spool max [N] "
             "| splash zone [s] | zone body max [N] | zone body min [N] | F_z max [N] | F_z min [N] "
             "| dynamic F_z peak [N] (t [s]) |",
             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for key, s in stats.items():
         seed, waves = key.split("/")
-        rows.append(f"| {seed} | {waves} | {'yes' if s['lifted_out'] else 'NO'} | {s['body_mean']:.0f} | {s['body_std']:.0f} | {s['body_max']:.0f} | "
+        rows.append(f"| {seed} | {waves} | {'yes' if s['lifted_out'] else 'NO'} | {s['body_mean']:.0f} | "
+                    f"{s['body_std']:.0f} | {s['body_max']:.0f} | "
                     f"{s['body_min']:.0f} | {s['slack_events']} | {s['top_max']:.0f} | "
                     f"{s['zone_start']:.1f}-{s['zone_end']:.1f} | {s['zone_body_max']:.0f} | "
                     f"{s['zone_body_min']:.0f} | {s['zone_fz_max']:.0f} | {s['zone_fz_min']:.0f} | "
@@ -234,7 +237,8 @@ def main() -> int:
     crest = max(st["zone_crest"] for key, st in stats.items() if key.endswith("/motion"))
     hand = (simplified_method(scene, float(np.mean(v_ct)), hoist_speed=0.5),
             simplified_method(scene, float(np.mean(v_ct)), hoist_speed=0.5, amplitude=crest))
-    (HERE / "results.json").write_text(json.dumps({"cases": stats, "simplified_method": dict(zip(("2 Hs", "largest crest"), hand)),
+    hand_json = dict(zip(("2 Hs", "largest crest"), hand))
+    (HERE / "results.json").write_text(json.dumps({"cases": stats, "simplified_method": hand_json,
                                                    "cpu_seconds": time.process_time() - start}, indent=1))
     (HERE / "results.md").write_text(table(stats, hand))
     plot(records, SEEDS[0], HERE / "recovery.png")
