@@ -9,9 +9,13 @@ thrust and heave references, the ship and winch inputs are not used). "Simulatio
 is whichever of them the scene asks for.
 
 Parameters: ``scene`` (a built-in scene name or a path to a scene TOML file),
-``overrides`` (``KEY=VALUE`` items as for ``towcable --set``, separated by ``;``) and a
-few common overrides named by their scene keys (``solver.time_step``,
-``solver.rho_inf``, ``towbody.mass``; their sentinel values 0 / -1 keep the scene's).
+``overrides`` (``KEY=VALUE`` items as for ``towcable --set``, separated by ``;``; the
+item ``motion = {...}`` sets the sea of the waves in the water, the TOML text ShipMotion's
+``motion.config`` takes: give both FMUs the same text; with waves in the water the ship
+inputs are checked once, after the sea's ramp, against the motion that sea gives the
+ship, and a difference is a warning) and a few common overrides named by their scene
+keys (``solver.time_step``, ``solver.rho_inf``, ``towbody.mass``; their sentinel values
+0 / -1 keep the scene's).
 Inputs: the 18 ``ship.*`` signals and ``winch.phi_sp``, ``winch.phi_sp_rate``.
 
 * ``exit_initialization_mode`` loads the scene, builds the Simulation and initialises it
@@ -39,6 +43,7 @@ import numpy as np
 from pythonfmu.enums import Fmi2Status
 
 from .common.errors import SceneError
+from .hydro.waves import sea_of
 from .models import model_kind, simulation_for
 from .fmi.slave import ContractSlave, ShipStateReader, ship_signal_names
 from .scene import load_scene, parse_overrides
@@ -70,6 +75,7 @@ class TowCable(ContractSlave):
         self._native: np.ndarray | None = None  # the data of the loader's compiled step (Simulation.native_step)
         self._built_from: tuple | None = None
         self._ship = ShipStateReader()
+        self._sea_watch: tuple | None = None  # (the sea of the waves, when to check the ship inputs [s])
 
     def _parameters(self) -> dict[str, Any]:
         return {v.name: self.values[v.name] for v in self.spec.parameters}
@@ -96,6 +102,7 @@ class TowCable(ContractSlave):
         parts = {"ancf": "ANCF elements", "nodal_position": "nodal-position elements", "rigid_link": "rigid links"}
         self.log(f"{self.instance_name}: scene '{self.values['scene']}' ({self.sim.scene.title}); "
                  f"{self.sim.n_elements} {parts[kind]}; initialised")
+        self._watch_the_sea(ship)
         if kind == "rigid_link":
             self.log(f"{self.instance_name}: the rigid-link tug is driven by the scene's thrust and heave "
                      "references; the ship.* and winch inputs are not used")
@@ -107,6 +114,8 @@ class TowCable(ContractSlave):
         now = self.sim.time  # t, to 1e-9 (ContractSlave.do_step)
         try:
             ship, setpoint = self._inputs()
+            if self._sea_watch is not None and t >= self._sea_watch[1]:
+                self._check_sea(t, ship)
             # step to t + dt exactly: the model time follows the master's clock; the row's
             # outputs are finite (else the step fails and the state is unchanged)
             row = self.timed(self.sim.step_row, (t + dt) - now, ship, setpoint)
@@ -123,6 +132,8 @@ class TowCable(ContractSlave):
         # the step of _step on the shared values: the inputs read from them, the outputs
         # written into them; a non-finite input or a failed step is left to _step, which
         # refuses it with the reason (a failed step leaves the Simulation as it was)
+        if self._sea_watch is not None and t >= self._sea_watch[1]:
+            self._check_sea(t, values[self._row_copy.input_vrs[:18]])
         plan = self._plan
         if plan is not None:  # the whole step in one compiled call
             start = time.perf_counter()
@@ -145,9 +156,11 @@ class TowCable(ContractSlave):
 
     def _compiled_functions(self) -> tuple[int, int, np.ndarray] | None:
         # the loader layer steps with the Simulation's step on the shared values as a C
-        # function (Simulation.native_step); what it did is taken over in _take_back
+        # function (Simulation.native_step); what it did is taken over in _take_back. Not
+        # while the ship inputs are still to be checked against the sea (_check_sea, Python)
         make = getattr(self.sim, "native_step", None)
-        native = None if self._plan is None or make is None else make(self._buffer_size(), self._plan)
+        native = (None if self._plan is None or make is None or self._sea_watch is not None
+                  else make(self._buffer_size(), self._plan))
         self._native = None if native is None else native[1]
         return None if native is None else (native[0], 0, native[1])
 
@@ -155,6 +168,39 @@ class TowCable(ContractSlave):
         super()._take_back()
         if self._native is not None:
             self.sim.native_steps_made(self._native)
+
+    def _watch_the_sea(self, ship: np.ndarray) -> None:
+        """With waves in the water: log the sea, and check the ship inputs against the
+        motion that sea gives the ship (the scene's RAOs) at the first time after its ramp
+        (:meth:`_check_sea`): TowCable cannot see ShipMotion's parameters, but a ship that
+        moves by another sea is seen in its inputs."""
+        water = getattr(self.sim.scene, "water", None)
+        self._sea_watch = None
+        if water is None or water.waves == "off":
+            return
+        sea = sea_of(self.sim.scene)
+        self.log(f"{self.instance_name}: waves in the water from the sea of the scene's [motion]: {sea.description}; "
+                 "ShipMotion must have the same sea (its motion.config the 'motion = {...}' item of overrides)")
+        self._sea_watch = (sea, max(sea.ramp, self.start_time))
+        if self.start_time >= self._sea_watch[1]:
+            self._check_sea(self.start_time, ship)
+
+    def _check_sea(self, t: float, ship: np.ndarray) -> None:
+        """Warn (once) if the ship inputs at ``t`` [s] are not the motion the sea of the
+        waves gives the ship: ShipMotion then has another sea (or other RAOs)."""
+        sea = self._sea_watch[0]
+        self._sea_watch = None
+        expected = sea.evaluate(t)[0]
+        given = np.asarray(ship, dtype=float).reshape(3, 6)[0]
+        error = np.abs(given - expected)
+        if np.all(error <= 1e-6 * (1.0 + np.abs(expected))):
+            return
+        k = int(np.argmax(error))
+        name = ship_signal_names()[k]
+        self.log(f"{self.instance_name}: at t = {t:.6g} s the ship input {name} = {given[k]:.6g} is not the motion "
+                 f"the sea of TowCable's waves gives the ship, {expected[k]:.6g} ({sea.description}): ShipMotion's "
+                 "sea (or its RAOs) is not TowCable's; give ShipMotion's motion.config as the 'motion = {...}' item of "
+                 "TowCable's overrides", Fmi2Status.warning)
 
     def _model_state(self) -> Any:
         return {"simulation": self.sim.get_state(), "missing": list(self.missing)}

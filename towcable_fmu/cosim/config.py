@@ -136,12 +136,17 @@ def compensation_geometry(scene, config: CosimConfig) -> dict[str, Any]:
 
 def motion_parameters(config: CosimConfig, scene) -> dict[str, Any]:
     """ShipMotion's parameters: none, the configuration's own ``[motion]``, the scene's
-    (its file, or its built-in name), or the FMU's default sea (empty)."""
+    (its file, or its built-in name; its table as TOML text when the overrides change it),
+    or the FMU's default sea (empty)."""
     if config.motion == "none":
         return {"motion.type": "none"}
     if config.motion:
         return {"motion.config": str(config.motion)}
     if getattr(scene, "motion", None):  # (none in a rigid-link scene)
+        if any(key.split(".")[0] == "motion" for key, _ in config.overrides):
+            from ..scene.sea import motion_config_text
+
+            return {"motion.config": motion_config_text(scene.motion, scene.base_dir)}
         path = Path(config.scene)
         return {"motion.config": str(path.resolve()) if path.suffix == ".toml" or path.exists() else config.scene}
     return {}  # the FMU's defaults: ship_motion.DEFAULT_SEA

@@ -83,6 +83,7 @@ def run_cosim(config: CosimConfig, progress: Callable[[float, float], None] | No
     if config.theta_nom is not None:
         params["HeaveCompensation"]["theta_nom"] = float(config.theta_nom)
     params["HeaveCompensation"].update(config.controller_parameters)
+    _share_the_sea(config, scene, params["ShipMotion"], params["TowCable"])
 
     inst: dict[str, FmuInstance] = {}
     t_init = time.perf_counter()
@@ -98,6 +99,31 @@ def run_cosim(config: CosimConfig, progress: Callable[[float, float], None] | No
     finally:
         for fmu in inst.values():
             fmu.free()
+
+
+def _share_the_sea(config: CosimConfig, scene, ship: dict, cable: dict) -> None:
+    """A scene with waves in the water: one sea for ShipMotion and TowCable. ShipMotion's
+    sea (:func:`~towcable_fmu.cosim.sea.shared_motion_config`) as TOML text ``motion = {...}``
+    becomes ShipMotion's ``motion.config`` and the last item of TowCable's ``overrides``
+    (the same text), unless the configuration gives TowCable its own ``overrides``, whose
+    sea must then be ShipMotion's.
+
+    Raises
+    ------
+    SceneError
+        TowCable's sea differs from ShipMotion's (the message names both).
+    """
+    water = getattr(scene, "water", None)
+    if water is None or water.waves == "off":
+        return
+    from ..scene import load_scene, parse_overrides
+    from ..scene.sea import motion_config_table, motion_config_text
+    from .sea import check_same_sea, shared_motion_config
+
+    ship["motion.config"] = motion_config_text(motion_config_table(shared_motion_config(ship)))
+    if "overrides" not in config.cable_parameters:
+        cable["overrides"] = "; ".join(item for item in (cable["overrides"], ship["motion.config"]) if item)
+    check_same_sea(ship, cable, load_scene(cable["scene"], parse_overrides(cable["overrides"])))
 
 
 def _routes(inst: Mapping[str, FmuInstance], target: str) -> tuple[list[int], list[tuple[str, int]]]:
