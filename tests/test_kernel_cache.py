@@ -19,7 +19,7 @@ from towcable_fmu.jit.machine_cache import PACKAGES
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def test_digest_follows_the_kernel_sources_and_nothing_else(tmp_path):
+def test_digest_follows_the_kernel_and_overload_sources_and_nothing_else(tmp_path):
     for package in PACKAGES:
         shutil.copytree(ROOT / package, tmp_path / package, ignore=shutil.ignore_patterns("__pycache__"))
     kernel_cache.kernel_digest.cache_clear()
@@ -35,7 +35,18 @@ def test_digest_follows_the_kernel_sources_and_nothing_else(tmp_path):
         assert b"@njit" in kernel.read_bytes()
         kernel.write_text(kernel.read_text(encoding="utf-8") + "\n# edited\n", encoding="utf-8")
         kernel_cache.kernel_digest.cache_clear()
-        assert kernel_cache.kernel_digest(tmp_path) != before
+        edited = kernel_cache.kernel_digest(tmp_path)
+        assert edited != before
+        # a file with only a numba overload (a formulation's part of a protocol a kernel calls)
+        overloads = tmp_path / "towcable_fmu" / "numerics" / "overloads_only.py"
+        overloads.write_text("@overload(model_residual)\ndef _residual(model, step):\n    return None\n",
+                             encoding="utf-8")
+        kernel_cache.kernel_digest.cache_clear()
+        with_overloads = kernel_cache.kernel_digest(tmp_path)
+        assert with_overloads != edited
+        overloads.write_text(overloads.read_text(encoding="utf-8") + "# edited\n", encoding="utf-8")
+        kernel_cache.kernel_digest.cache_clear()
+        assert kernel_cache.kernel_digest(tmp_path) != with_overloads
     finally:
         kernel_cache.kernel_digest.cache_clear()
 

@@ -238,3 +238,33 @@ def test_numerics_knows_no_formulation():
     assert formulations_reached_from(fake, "towcable_fmu.numerics") == [
         ("towcable_fmu.numerics.scheme", "towcable_fmu.ancf.model")]
     assert formulations_reached_from(import_graph(), "towcable_fmu.numerics") == []
+
+
+def calls_of(path: Path) -> set[str]:
+    """The names of the functions a module's source calls (``f(...)`` and ``m.f(...)``)."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Call):
+            f = node.func
+            found.add(f.id if isinstance(f, ast.Name) else f.attr if isinstance(f, ast.Attribute) else "")
+    return found
+
+
+def test_the_nodal_cable_steps_with_the_generic_solver():
+    """The nodal cable's generalised-alpha step calls numerics' Newton step
+    (``alpha_step``) and overloads every function of its protocol for its model: the
+    iteration is numerics' code, the formulation gives its residual, matrix, start and
+    norm. (The ANCF cable's Newton loop is still its own, in ``ancf/genalpha.py``.)"""
+    known = modules()
+    graph = import_graph()
+    name = "towcable_fmu.nodal.integrators"
+    assert "towcable_fmu.numerics.alpha_newton" in graph[name]
+    assert "alpha_step" in calls_of(known[name])
+    tree = ast.parse(known[name].read_text(encoding="utf-8"))
+    overloaded = {d.args[0].id for node in ast.walk(tree) if isinstance(node, ast.FunctionDef)
+                  for d in node.decorator_list if isinstance(d, ast.Call) and getattr(d.func, "id", "") == "overload_for"}
+    assert overloaded == {"model_start", "model_residual", "model_factorize", "model_solve", "model_correct"}
+    protocol = ast.parse(known["towcable_fmu.numerics.alpha_newton"].read_text(encoding="utf-8"))
+    stubs = {t.id for node in ast.walk(protocol) if isinstance(node, ast.Assign) and isinstance(node.value, ast.Call)
+             and getattr(node.value.func, "id", "") == "_protocol" for t in node.targets}
+    assert stubs == overloaded

@@ -49,7 +49,9 @@ ROOT = Path(__file__).resolve().parents[2]
 @functools.cache
 def kernel_digest(root: Path = ROOT) -> str:
     """SHA-256 (16 hex digits) of the names and contents of every source file of the
-    packages under ``root`` that defines a compiled kernel, and of the name the code is
+    packages under ``root`` that defines a compiled kernel or a numba overload (a
+    formulation's implementation of a protocol a kernel calls, such as
+    :mod:`towcable_fmu.numerics.alpha_newton`'s), and of the name the code is
     imported under: numba's cache entries name their module (it is imported again to load
     them), so the copy an FMU carries (``towcable_<digest>.towcable_fmu``) must not share
     the entries of the installed ``towcable_fmu`` even where the sources are the same."""
@@ -57,7 +59,7 @@ def kernel_digest(root: Path = ROOT) -> str:
     for package in PACKAGES:
         for path in sorted((root / package).rglob("*.py")):
             text = path.read_bytes()
-            if b"@njit" in text:
+            if b"@njit" in text or b"@overload" in text:
                 h.update(path.relative_to(root).as_posix().encode() + b"\0")
                 h.update(hashlib.sha256(text).digest())
     return h.hexdigest()[:16]

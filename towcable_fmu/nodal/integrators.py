@@ -3,7 +3,8 @@
 * Generalised-alpha (Arnold & Bruls form, the coefficients of
   :func:`towcable_fmu.numerics.alpha_scheme.scheme_coefficients`): the unknowns are the
   accelerations of the free nodes at the end of the step, found by Newton's method
-  with the banded iteration matrix ``M + gamma' C + beta' K`` (by coloured differences,
+  (:func:`towcable_fmu.numerics.alpha_newton.alpha_step`, with this module's overloads of
+  its protocol for :class:`NodalModel`) with the banded iteration matrix ``M + gamma' C + beta' K`` (by coloured differences,
   :func:`.assembly.iteration_matrix`; formed at the start of each step, and at every
   iteration when the first ``max_iter`` iterations do not converge, which happens when
   an element crosses between slack and taut) and the banded LU of
@@ -26,6 +27,8 @@ from typing import NamedTuple
 import numpy as np
 
 from ..jit.kernel_cache import njit
+from ..numerics.alpha_newton import (NewtonPolicy, alpha_step, model_correct, model_factorize, model_residual,
+                                     model_solve, model_start, overload_for)
 from ..numerics.kinematics import ship_point_kinematics
 from ..numerics.banded import band_lu, band_solve
 from ..numerics.hermite import step_weights
@@ -113,56 +116,104 @@ def _factor(ab: np.ndarray, kl: int, ipiv: np.ndarray) -> bool:
     return band_lu(ab, ab.shape[0], kl, kl, ipiv) == 0
 
 
+class AlphaIterate(NamedTuple):
+    """One generalised-alpha step's iterate and scratch: the ``step`` of the protocol of
+    :mod:`towcable_fmu.numerics.alpha_newton`, whose overloads for :class:`NodalModel`
+    follow."""
+
+    start: NodalState    #: the state at the step's start (q, v, x, acc; its counters)
+    out: np.ndarray      #: (4, n): q, v, x, acc at the step's end (the iterate)
+    drive_t: np.ndarray  #: the drive table
+    drive_x: np.ndarray
+    t1: float            #: the step's end [s]
+    h: float             #: the step [s]
+    coef: np.ndarray     #: (am, af, gamma, beta)
+    ca: float            #: the changes of acc, v and q per change of x: (1 - af)/(1 - am), gamma', beta'
+    cv: float
+    cq: float
+    kl: int              #: the iteration matrix's half-bandwidth
+    r: np.ndarray        #: (n,) residual
+    d: np.ndarray        #: (n - 3,) Newton correction
+    ab: np.ndarray       #: band storage of the factorised iteration matrix
+    ipiv: np.ndarray     #: its pivots
+    work: np.ndarray     #: (4, n) scratch of the matrix's differences
+
+
+@overload_for(model_start, NodalModel)
+def _start(model, step):
+    """The scheme's start: x1 = x (and the acc and q, v it gives), the top node at t1."""
+    x, acc = step.start.x, step.start.acc
+    q1, v1, x1, a1 = step.out[0], step.out[1], step.out[2], step.out[3]
+    am, af, gamma, beta, h = step.coef[0], step.coef[1], step.coef[2], step.coef[3], step.h
+    x1[:] = x
+    a1[:] = (af * x - am * acc + (1.0 - af) * x1) / (1.0 - am)
+    q1[:] = step.start.q + h * step.start.v + h * h * ((0.5 - beta) * acc + beta * a1)
+    v1[:] = step.start.v + h * ((1.0 - gamma) * acc + gamma * a1)
+    prescribe_top(model, step.drive_t, step.drive_x, step.t1, q1, v1, x1)
+
+
+@overload_for(model_residual, NodalModel)
+def _residual(model, step):
+    residual(model, step.out[0], step.out[1], step.out[2], step.t1, step.r)
+    step.start.stats[STAT_RESIDUALS] += 1
+
+
+@overload_for(model_factorize, NodalModel)
+def _factorize(model, step):
+    stats, cq = step.start.stats, step.cq
+    stats[STAT_RESIDUALS] += iteration_matrix(model, step.out[0], step.out[1], step.out[2], step.t1, 1.0,
+                                              step.cv, cq, 1e-7 * model.L0.min() / cq, step.r, step.ab,
+                                              step.work)
+    stats[STAT_JACOBIANS] += 1
+    return _factor(step.ab, step.kl, step.ipiv)
+
+
+@overload_for(model_solve, NodalModel)
+def _solve(model, step):
+    """The correction of the free coordinates (checked for finite values by :func:`_correct`)."""
+    d = step.d
+    d[:] = -step.r[3:]
+    band_solve(step.ab, d.size, step.kl, step.kl, step.ipiv, d)
+    step.start.stats[STAT_NEWTON] += 1
+
+
+@overload_for(model_correct, NodalModel)
+def _correct(model, step):
+    """The iterate moved by the correction; its norm: the largest position change [m] (NaN:
+    a correction not finite, not applied)."""
+    d = step.d
+    if not np.all(np.isfinite(d)):
+        return np.nan
+    q1, v1, x1, a1 = step.out[0], step.out[1], step.out[2], step.out[3]
+    x1[3:] += d
+    a1[3:] += step.ca * d
+    q1[3:] += step.cq * d
+    v1[3:] += step.cv * d
+    return step.cq * np.abs(d).max()
+
+
 @njit(cache=True)
 def genalpha_step(m: NodalModel, options: NodalOptions, h: float, t: float, drive_t: np.ndarray,
                   drive_x: np.ndarray, state: NodalState, out: np.ndarray) -> bool:
-    """One generalised-alpha step of size h [s] from t (the state's q, v, x, acc).
+    """One generalised-alpha step of size h [s] from t (the state's q, v, x, acc), by
+    :func:`towcable_fmu.numerics.alpha_newton.alpha_step`.
 
-    Newton stops when the position correction is below ``options.newton_tol`` times the
-    shortest element. ``out`` (4, n) receives q, v, x, acc at t + h (valid when True is
-    returned); the state's arrays are not changed except its counters.
+    Newton forms the iteration matrix at the first iterate and keeps it for
+    ``options.max_iter`` iterations, then forms it at every iterate for as many more; it
+    stops when the position correction is below ``options.newton_tol`` times the shortest
+    element. ``out`` (4, n) receives q, v, x, acc at t + h (valid when True is returned);
+    the state's arrays are not changed except its counters.
     """
-    coef, stats = options.coef, state.stats
-    q, v, x, acc = state.q, state.v, state.x, state.acc
+    coef = options.coef
     am, af, gamma, beta = coef[0], coef[1], coef[2], coef[3]
-    q1, v1, x1, a1 = out[0], out[1], out[2], out[3]
     ca = (1.0 - af) / (1.0 - am)
-    cq = h * h * beta * ca
-    cv = h * gamma * ca
-    x1[:] = x
-    a1[:] = (af * x - am * acc + (1.0 - af) * x1) / (1.0 - am)
-    q1[:] = q + h * v + h * h * ((0.5 - beta) * acc + beta * a1)
-    v1[:] = v + h * ((1.0 - gamma) * acc + gamma * a1)
-    prescribe_top(m, drive_t, drive_x, t + h, q1, v1, x1)
-    n = q.size
+    n = state.q.size
     kl = bandwidth(m)
-    r = np.empty(n)
-    ab = np.empty((n - 3, 3 * kl + 1))
-    ipiv = np.empty(n - 3, dtype=np.int64)
-    work = np.empty((4, n))
-    scale = options.newton_tol * m.L0.min()
-    for attempt in range(2):  # modified Newton, then full Newton from where it stopped
-        for it in range(options.max_iter):
-            residual(m, q1, v1, x1, t + h, r)
-            stats[STAT_RESIDUALS] += 1
-            if it == 0 or attempt == 1:
-                stats[STAT_RESIDUALS] += iteration_matrix(m, q1, v1, x1, t + h, 1.0, cv, cq, 1e-7 * m.L0.min() / cq,
-                                                          r, ab, work)
-                stats[STAT_JACOBIANS] += 1
-                if not _factor(ab, kl, ipiv):
-                    return False
-            d = -r[3:]
-            band_solve(ab, n - 3, kl, kl, ipiv, d)
-            stats[STAT_NEWTON] += 1
-            if not np.all(np.isfinite(d)):
-                return False
-            x1[3:] += d
-            a1[3:] += ca * d
-            q1[3:] += cq * d
-            v1[3:] += cv * d
-            if cq * np.abs(d).max() < scale:
-                return not m.rigid.enabled or attitude_ok(q1[n - 6:])
-    return False
+    step = AlphaIterate(state, out, drive_t, drive_x, t + h, h, coef, ca, h * gamma * ca, h * h * beta * ca, kl,
+                        np.empty(n), np.empty(n - 3), np.empty((n - 3, 3 * kl + 1)), np.empty(n - 3, dtype=np.int64),
+                        np.empty((4, n)))
+    policy = NewtonPolicy(2 * options.max_iter, options.max_iter, options.newton_tol * m.L0.min())
+    return alpha_step(m, step, policy) and (not m.rigid.enabled or attitude_ok(out[0][n - 6:]))
 
 
 @njit(cache=True)
