@@ -269,6 +269,28 @@ def test_splits_and_merges_leave_no_impulse_in_the_deploy_scene(deploy, name):
     assert np.max(jump[events]) < np.percentile(others, 99)
 
 
+def test_steps_shorter_than_the_solver_step_split_and_merge_the_fed_element():
+    """Steps of half the scene's time step (a co-simulation's communication step below the
+    solver's: every call one solver step, which reaches the caller's time) out through a
+    split and back through the merge: after every step the fed element is within its band
+    (MERGE_FACTOR to SPLIT_FACTOR nominal lengths), as in a run. A step that ends at the
+    caller's time with the fed element out of its band used to leave it unmeshed: hauled
+    in, it shrank through zero length (ZeroDivisionError in the kernels)."""
+    program = {"winch.program_times": [0.5, 6.5, 12.5], "winch.program_payout": [0.0, 3.0, 0.0]}
+    sim = Simulation.from_scene(SCENE, program)
+    sim.initialize(0.0, np.zeros((3, 6)))
+    feed, nominal = sim.model.terms.feed, LENGTH / 4
+    h = 0.5 * sim.options.h_max
+    counts = set()
+    for k in range(int(round(13.0 / h))):
+        sim.step((k + 1) * h - sim.time, np.zeros((3, 6)))
+        length = sim.model.el_len[feed.element]
+        assert MERGE_FACTOR * nominal < length < SPLIT_FACTOR * nominal, (sim.time, length)
+        counts.add(sim.mesh.n_elements)
+    assert counts == {4, 5}   # split on the way out, merged on the way back
+    assert sim.mesh.n_elements == 4
+
+
 def test_the_towcable_fmu_pays_out_across_a_split_and_restores_its_state(fmu_paths):
     """The TowCable FMU on the spool scene with a payout program: winch.deployed follows
     the program through a split, the outputs are the Simulation's bit for bit, an FMU

@@ -18,6 +18,7 @@ import math
 import numpy as np
 
 from ..jit.kernel_cache import njit
+from .feed import feed_event
 from .genalpha import CLOCK_TIME
 from .output_kernel import OUTPUT_FIELDS
 from .stepper import save_state, step_to
@@ -81,7 +82,9 @@ def step_on_values(stepper, values: np.ndarray, plan: np.ndarray, t_end: float, 
     Returns
     -------
     int
-        :data:`DONE`, :data:`BAD_INPUT` or :data:`ROLL_BACK`.
+        :data:`DONE`, :data:`BAD_INPUT` or :data:`ROLL_BACK` (also after a step that took a
+        spool end's fed element out of its band: the Python step makes it again and
+        remeshes, :meth:`~towcable_fmu.ancf.remeshing.Remeshing._after_event`).
     """
     m, k = plan[0], plan[1]
     inputs = plan[2:22]
@@ -102,6 +105,8 @@ def step_on_values(stepper, values: np.ndarray, plan: np.ndarray, t_end: float, 
             ship[r, c] = values[inputs[6 * r + c]]
     save_state(stepper)
     if step_to(stepper, t0 + dt, t0, ship, values[inputs[18]], values[inputs[19]]) != 1:
+        return ROLL_BACK
+    if feed_event(stepper.model):  # a spool end's fed element left its band: Python remeshes
         return ROLL_BACK
     row = stepper.rows[0]
     for i in range(m):

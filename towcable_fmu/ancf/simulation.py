@@ -503,7 +503,9 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
             reached = advance_recording(self.model, self.options, self.state, self.workspace, np.array([t_end]),
                                         *drive, Recording(self.output_scene, _ALL_OUTPUTS if keep else _NO_OUTPUTS,
                                                           rows, False, False, t_end))
-            if reached == 1 or not self._after_event():
+            # (an event of the step that reached t_end is handled too: else a run of steps
+            # each one solver step long would never remesh)
+            if not self._after_event() or reached == 1:
                 break
         self._stepped = (self._fingerprint(), rows[0]) if keep and reached == 1 else None
         return genalpha.OK if reached == 1 else genalpha.FAILED_MIN_STEP
@@ -514,7 +516,7 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         while True:  # (a spool end's fed element is split or merged between steps)
             stepper, rows, _ = self._current_stepper()
             reached = step_to(stepper, t_end, drive.t0, drive.ship, drive.setpoint[0], drive.setpoint[1])
-            if reached == 1 or not self._after_event():
+            if not self._after_event() or reached == 1:  # (as _step_to)
                 break
         self._stepped = (self._fingerprint(), rows[0]) if reached == 1 else None
         return genalpha.OK if reached == 1 else genalpha.FAILED_MIN_STEP
@@ -714,7 +716,7 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
                 reached += advance_recording(self.model, self.options, self.state, self.workspace, block[reached:],
                                              *drive, Recording(self.output_scene, self.layout.index, rows[reached:],
                                                                True, interpolate, t_land))
-                if reached == block.size or not self._after_event():
+                if not self._after_event() or reached == block.size:  # (as _step_to)
                     break
         else:
             reached = 0
