@@ -142,3 +142,28 @@ def test_the_c_step_refuses_what_step_row_must_report():
     sim.native_steps_made(data)
     np.testing.assert_array_equal(values, before)
     _same_state(sim, reference)
+
+
+def test_a_spool_scene_steps_in_python_and_remeshes_at_every_communication_step():
+    """A spool scene (its fed element's mesh is state the FMU saves) has no compiled step on
+    the buffer: the FMU steps with step_row, whose steps, half the scene's time step here
+    (each one solver step that reaches the caller's time), split the fed element when it
+    leaves its band. Paid out 3 m by the winch set-point: the fed element is within its band
+    after every step, and the mesh is split once."""
+    from pathlib import Path
+
+    from towcable_fmu.ancf.feed import MERGE_FACTOR, SPLIT_FACTOR
+
+    scene = str(Path(__file__).parent / "data" / "spool_hanging.toml")
+    sim = Simulation.from_scene(scene)
+    sim.initialize(0.0, np.zeros((3, 6)))
+    n = len(sim.names)
+    assert sim.buffer_plan(np.arange(n, n + 20), np.arange(n), np.arange(n), np.zeros(n, dtype=bool)) is None
+    feed, radius, phi0 = sim.model.terms.feed, 0.3 + 0.005, sim._setpoint[0]
+    h = 0.5 * sim.options.h_max
+    for k in range(int(round(7.0 / h))):
+        t = (k + 1) * h
+        s = min(max((t - 0.5) / 6.0, 0.0), 1.0)   # 3 m paid out from 0.5 s to 6.5 s
+        sim.step_row(t - sim.time, np.zeros((3, 6)), (phi0 - 3.0 * s / radius, -(0.5 / radius if 0.0 < s < 1.0 else 0.0)))
+        assert MERGE_FACTOR * feed.length_nom < sim.model.el_len[feed.element] < SPLIT_FACTOR * feed.length_nom
+    assert sim.mesh.n_elements == 5

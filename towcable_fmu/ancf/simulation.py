@@ -565,7 +565,8 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         bool
             True if the step is made; False if not, with nothing changed: the step is for
             :meth:`step_row` to make or to refuse with the reason (non-finite inputs or step,
-            a failed step, non-finite outputs, a payout beyond the drum).
+            a failed step, non-finite outputs, a payout beyond the drum, a spool end's fed element
+            out of its band: step_row remeshes).
         """
         if self.turbulence is not None:
             self._cover(t_end)
