@@ -214,7 +214,9 @@ class TowCable(ContractSlave):
 
     def _use_row_copy(self) -> None:
         """Work out the copy of the Simulation's outputs, and its step on the shared values
-        in one compiled call if it has one (``Simulation.buffer_plan``)."""
+        in one compiled call if it has one (``Simulation.buffer_plan``); the Simulation
+        computes only the outputs the FMU reports (``only_outputs``)."""
+        self.sim.only_outputs(name for name, _, _ in self._output_slots)
         self._row_copy = copy = _RowCopy(self.sim.names, self._output_slots, self._value_references())
         plan = getattr(self.sim, "buffer_plan", None)
         self._plan = None if plan is None or copy.casts_other_than_bool else plan(*copy.buffer_layout())

@@ -108,12 +108,14 @@ def gravity_energy(model: CableModel, q: np.ndarray) -> float:
 
 @njit(cache=True, inline="always")
 def summary(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: float, ship: np.ndarray,
-            xi: np.ndarray, r: np.ndarray) -> np.ndarray:
+            xi: np.ndarray, r: np.ndarray, energies: bool) -> np.ndarray:
     """The scalar outputs of a state in one compiled pass (order: :data:`SUMMARY_FIELDS`).
 
     Reactions are the magnitudes of the residual at the end nodes' position rows
     (zero at a free end), evaluated over the end elements only; the tension extremes
-    are taken over ``xi`` in every element; ``r`` (shape (nf,)) is scratch.
+    are taken over ``xi`` in every element; ``r`` (shape (nf,)) is scratch. Without
+    ``energies`` the three energies are NaN and not computed (nor the strains at the
+    Gauss points they integrate).
     """
     out = np.zeros(len(SUMMARY_FIELDS))
     ne = model.el_len.shape[0]
@@ -125,10 +127,10 @@ def summary(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: f
     if model.free_idx[last] < 0:
         residual_span(model, q, v, a, t, ship, ne - 1, ne, r)
         out[1] = np.sqrt(r[last] ** 2 + r[last + 1] ** 2 + r[last + 2] ** 2)
-    ng = model.gauss_w.shape[0]
+    ng = model.gauss_w.shape[0] if energies else 0
     nk = xi.shape[0]
     work = axial_work(model.gauss_dn, model.gauss_w)
-    dn = np.empty((nk + ng, 4))  # rows: the output points xi, then the Gauss points
+    dn = np.empty((nk + ng, 4))  # rows: the output points xi, then the Gauss points (for the strain energy)
     for k in range(nk):
         x = xi[k]
         dn[k, 0] = -6.0 * x + 6.0 * x * x
@@ -161,9 +163,12 @@ def summary(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: f
                 axial += model.gauss_w[k - nk] * length * energy_of_strain(ea, ek, model.el_engineering[e])
     out[4] = t_max
     out[5] = t_min
-    out[6] = kinetic_energy(model, v)
-    out[7] = axial + bending_energy(model, q)
-    out[8] = gravity_energy(model, q)
+    if energies:
+        out[6] = kinetic_energy(model, v)
+        out[7] = axial + bending_energy(model, q)
+        out[8] = gravity_energy(model, q)
+    else:
+        out[6:9] = np.nan
     return out
 
 

@@ -39,6 +39,8 @@ OUTPUT_FIELDS = ("tension.top", "tension.bottom", "tension.max", "tension.min", 
                  "energy.kinetic", "energy.strain", "energy.gravity", "winch.phi", "winch.payout",
                  "towbody.roll", "towbody.pitch", "towbody.yaw", "winch.deployed")
 _FIELD = {name: k for k, name in enumerate(OUTPUT_FIELDS)}
+#: The fields :attr:`OutputScene.energies` switches.
+ENERGY_FIELDS = ("energy.kinetic", "energy.strain", "energy.gravity")
 #: The cable's own outputs (the force terms declare theirs, :mod:`towcable_fmu.ancf.forces.hooks`).
 CABLE_OUTPUTS = ("tension.top", "tension.bottom", "tension.max", "tension.min", "angle.top", "energy.kinetic",
                  "energy.strain", "energy.gravity", "winch.phi")
@@ -69,6 +71,9 @@ class OutputScene(NamedTuple):
     payout_radius: float
     #: Nominal winch rotation [rad].
     phi_nom: float
+    #: The energies (:data:`ENERGY_FIELDS`) are computed (else NaN: for a caller that reads
+    #: none of them, :meth:`~towcable_fmu.ancf.simulation.Simulation.only_outputs`).
+    energies: bool = True
 
 
 class Recording(NamedTuple):
@@ -154,11 +159,11 @@ def output_values(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
         velocities are those of its CG, and its kinetic energy, weight and link strain
         energy are included in the energies. The contact fields
         follow :meth:`~towcable_fmu.ancf.simulation.Simulation.outputs`. Fields a scene does
-        not model are NaN.
+        not model are NaN, and so are the energies without ``scene.energies``.
     """
     out = np.full(len(OUTPUT_FIELDS), np.nan)
     (reaction_top, reaction_bottom, t_first, t_last, t_max, t_min, kinetic, strain,
-     gravity) = summary(model, q, v, a, t, ship, scene.xi, r)
+     gravity) = summary(model, q, v, a, t, ship, scene.xi, r, scene.energies)
     last = 6 * (model.node_mass.shape[0] - 1)
     top = reaction_top if model.free_idx[0] < 0 else max(t_first, 0.0)
     bottom = reaction_bottom if model.free_idx[last] < 0 else max(t_last, 0.0)

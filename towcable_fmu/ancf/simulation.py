@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 import operator
-from typing import Any, Mapping, NamedTuple
+from typing import Any, Iterable, Mapping, NamedTuple
 
 import numpy as np
 
@@ -23,7 +23,8 @@ from .initial_layout import initial_coordinates, layout_from_scene
 from .mesh import build_mesh, build_model
 from .model import CableModel, Mesh
 from .compensation_setup import compensation_config, compensation_table
-from .output_kernel import CABLE_OUTPUTS, OUTPUT_FIELDS, OutputLayout, OutputScene, Recording, advance_recording
+from .output_kernel import (CABLE_OUTPUTS, ENERGY_FIELDS, OUTPUT_FIELDS, OutputLayout, OutputScene, Recording,
+                            advance_recording)
 from ..common.errors import SceneError, SolverError
 from ..hydro.turbulence import TurbulenceSeries
 from ..hydro.water import still_water
@@ -472,6 +473,20 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
     def _named(self, row: np.ndarray) -> dict[str, float]:
         self._last_outputs = super()._named(row)
         return self._last_outputs
+
+    def only_outputs(self, wanted: Iterable[str]) -> None:
+        """From now on compute only the outputs in ``wanted`` and those the terms compute in
+        Python: :attr:`names` leaves the others out. An FMU that reports no energy saves
+        the energies' share of every step's outputs (:data:`~towcable_fmu.ancf.output_kernel.ENERGY_FIELDS`)."""
+        wanted = set(wanted)
+        self.layout = OutputLayout(name for name in self.layout.names
+                                   if name in wanted or name not in OUTPUT_FIELDS)
+        self.names = self.layout.names
+        energies = any(name in self.names for name in ENERGY_FIELDS)
+        if energies != self.output_scene.energies:
+            self.output_scene = self.output_scene._replace(energies=energies)
+            self._stepped = None
+            self._last_outputs = {}
 
     def _output_row(self) -> np.ndarray:
         if not self._python_outputs:

@@ -131,6 +131,10 @@ class SimulationDriver:
         """The outputs at the current state, keyed by :attr:`output_names`."""
         return self._named(self._output_row())
 
+    def only_outputs(self, wanted: Iterable[str]) -> None:
+        """A caller that reads only the outputs in ``wanted`` says so: a model may then leave
+        the others out of :attr:`names` and not compute them (this one computes all)."""
+
     def _named(self, row: np.ndarray) -> dict[str, float]:
         """The outputs of the current state from their row (the order of ``names``)."""
         return {"time": self.time, **dict(zip(self.names, row.tolist()))}

@@ -7,7 +7,7 @@ each against :class:`CableSimulation`.
 
 from __future__ import annotations
 
-from typing import Any, Callable, Mapping, Protocol, runtime_checkable
+from typing import Any, Callable, Iterable, Mapping, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -59,6 +59,10 @@ class CableSimulation(Protocol):
 
     def outputs(self) -> dict[str, float]:
         """The outputs at the current state."""
+
+    def only_outputs(self, wanted: Iterable[str]) -> None:
+        """The caller reads only the outputs in ``wanted`` from now on: the model may leave
+        the others out of :attr:`names` (and not compute them)."""
 
     def unit_of(self, name: str) -> str:
         """Unit of an output or statistic name."""
