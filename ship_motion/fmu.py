@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from towcable_fmu.builtin_scenes import builtin_scene_names, builtin_scene_text
+from towcable_fmu.builtin_scenes import builtin_scene_names, scene_document
 from towcable_fmu.common.errors import SceneError
 from towcable_fmu.fmi.slave import ContractSlave, ship_signal_names
 
@@ -62,15 +62,12 @@ def _config_table(config: str) -> tuple[dict, Path | None]:
             if not path.is_file():
                 raise SceneError("motion.config", config, "an existing TOML file, a built-in scene name or "
                                                           "TOML text of a [motion] table")
-            try:
-                doc = tomllib.loads(path.read_text(encoding="utf-8"))
-            except tomllib.TOMLDecodeError as exc:
-                raise SceneError("motion.config", config, f"valid TOML ({exc})") from None
+            doc, folder = scene_document(path, "motion.config")
             if "motion" not in doc:
                 raise SceneError("motion.config", config, "a TOML file with a [motion] table")
-            return doc["motion"], path.parent.resolve()
-        if config in builtin_scene_names():
-            motion = tomllib.loads(builtin_scene_text(config)).get("motion")
+            return doc["motion"], folder
+        if config in builtin_scene_names():  # (a variant's sea is its base's unless it sets its own)
+            motion = scene_document(config, "motion.config")[0].get("motion")
             return (dict(motion) if motion else {"type": "none"}), None
         raise SceneError("motion.config", config, "an existing TOML file, a built-in scene name ("
                          + ", ".join(builtin_scene_names()) + ") or TOML text of a [motion] table")

@@ -21,7 +21,8 @@ COMMAND_LINE = ("towcable_fmu.cli", "towcable_fmu.sweep.cli")
 #: The folders from the bottom up; a folder imports only from the layers below its own
 #: (folders of one layer do not import each other).
 LAYERS = (
-    ("towcable_fmu", "towcable_fmu.common", "towcable_fmu.builtin_scenes"),
+    ("towcable_fmu", "towcable_fmu.common"),
+    ("towcable_fmu.builtin_scenes",),
     ("towcable_fmu.jit",),
     ("towcable_fmu.numerics",),
     ("towcable_fmu.fmi",),

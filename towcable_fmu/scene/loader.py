@@ -10,14 +10,13 @@ from __future__ import annotations
 
 import copy
 import dataclasses
-import difflib
 import json
 import re
 import tomllib
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Iterable, Mapping
 
-from ..builtin_scenes import builtin_scene_names, builtin_scene_text
+from ..builtin_scenes import scene_document
 from ..common.errors import SceneError
 from ..common.schema import parse, spec
 from .model import Scene
@@ -26,22 +25,6 @@ if TYPE_CHECKING:
     from .rigid_link import RigidLinkScene
 
 _INDEX = re.compile(r"^(?P<name>[^\[\]]+)\[(?P<index>\d+)\]$")
-
-
-def _read_text(name_or_path: str | Path) -> tuple[str, Path | None]:
-    path = Path(name_or_path)
-    if path.suffix == ".toml" or path.exists():
-        if not path.is_file():
-            raise SceneError("scene", str(name_or_path), "an existing TOML file or a built-in scene name ("
-                             + ", ".join(builtin_scene_names()) + ")")
-        return path.read_text(encoding="utf-8"), path.parent.resolve()
-    names = builtin_scene_names()
-    if str(name_or_path) not in names:
-        close = difflib.get_close_matches(str(name_or_path), names, n=1)
-        hint = f" (did you mean '{close[0]}'?)" if close else ""
-        raise SceneError("scene", str(name_or_path), "a built-in scene name (" + ", ".join(names) + ")"
-                         + hint + " or a path to a .toml file")
-    return builtin_scene_text(str(name_or_path)), None
 
 
 def parse_override(text: str) -> tuple[str, Any]:
@@ -151,7 +134,9 @@ def load_scene(name_or_path: str | Path,
     Parameters
     ----------
     name_or_path
-        Built-in scene name (see :func:`builtin_scene_names`) or path to a TOML file.
+        Built-in scene name (see :func:`~towcable_fmu.builtin_scenes.builtin_scene_names`) or
+        path to a TOML file; a scene ``based_on`` another is merged with it first
+        (:func:`~towcable_fmu.builtin_scenes.scene_document`).
     overrides
         Dotted-key overrides applied before validation.
 
@@ -167,11 +152,7 @@ def load_scene(name_or_path: str | Path,
     SceneError
         Unknown scene, invalid TOML, unknown keys or out-of-range values.
     """
-    text, base = _read_text(name_or_path)
-    try:
-        table = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError("scene", str(name_or_path), f"valid TOML ({exc})") from None
+    table, base = scene_document(name_or_path)
     table = apply_overrides(table, overrides)
     if base is not None:
         table.setdefault("base_dir", str(base))

@@ -15,6 +15,7 @@ import numpy as np
 from ..common.errors import SceneError
 from ..numerics.explicit_step import SAFETY, step_limit
 from ..common.schema import spec
+from ..builtin_scenes import BASED_ON_DOC
 
 
 @dataclasses.dataclass(frozen=True)
@@ -590,6 +591,7 @@ class Scene:
     output: OutputSettings = spec(OutputSettings(), doc="recording")
     base_dir: str = spec("", doc="folder against which relative file paths are resolved "
                                  "(default: the scene file's folder, or the working directory)")
+    based_on: str = spec("", doc=BASED_ON_DOC)
 
     @property
     def model(self) -> str:

@@ -13,6 +13,7 @@ import dataclasses
 from ..common.errors import SceneError
 from ..common.schema import spec
 from .model import Environment
+from ..builtin_scenes import BASED_ON_DOC
 
 
 @dataclasses.dataclass(frozen=True)
@@ -99,6 +100,7 @@ class RigidLinkScene:
     solver: RigidLinkSolver = spec(RigidLinkSolver(), doc="time integration")
     output: RigidLinkOutput = spec(RigidLinkOutput(), doc="recording")
     base_dir: str = spec("", doc="folder of the scene file (unused; accepted for the loader)")
+    based_on: str = spec("", doc=BASED_ON_DOC)
 
     def validate(self, key: str) -> None:
         """Cross-field checks."""
