@@ -56,11 +56,13 @@ def inputs_at(fmu, k: int, **changed) -> tuple[list[int], list[float]]:
 
 
 def snapshot(fmu) -> tuple:
-    """Every Real and Boolean value but the diagnostics (wall times)."""
+    """Every Real, Boolean and String value but the diagnostics (wall times)."""
     reals = [v.name for v in fmu.spec.variables if v.type == "Real" and not v.diagnostic]
     bools = [v.name for v in fmu.spec.variables if v.type == "Boolean"]
+    strings = [v.name for v in fmu.spec.variables if v.type == "String"]
     got = tuple(fmu.fmu.getReal(fmu.vrs(reals)))
-    return got + tuple(fmu.fmu.getBoolean(fmu.vrs(bools))) if bools else got
+    got += tuple(fmu.fmu.getBoolean(fmu.vrs(bools))) if bools else ()
+    return got + tuple(fmu.fmu.getString(fmu.vrs(strings))) if strings else got
 
 
 def script(fmu, steps: int = 6) -> list:
@@ -132,6 +134,33 @@ def test_steps_do_not_enter_the_python_step(fmu_paths, monkeypatch, name):
         fmu.fmu.doStep(k * H, H)
         fmu.get_outputs()
     assert python_steps == []
+    assert slave._shared.header.compiled_steps == 5
+    fmu.free()
+
+
+@pytest.mark.parametrize("name", ["HeaveCompensation", "ShipMotion", "TowCable"])
+def test_a_host_that_reads_every_variable_at_every_step_does_not_enter_python(fmu_paths, monkeypatch, name):
+    """libcosim's observers read every variable, Strings too, after every step: the
+    String parameters the slave gave once are answered by the loader, so the steps stay
+    in compiled code (the slave is entered for the first get only); and what the gets
+    return is what the slave holds."""
+    fmu = instance(fmu_paths, name, monkeypatch, shared=True)
+    if fmu.spec.inputs:
+        fmu.fmu.setReal(*inputs_at(fmu, 0))
+    fmu.exit_initialization()
+    slave = slave_of(fmu)
+    strings = [v.name for v in fmu.spec.variables if v.type == "String"]
+    assert strings  # (the test sees something)
+    entries = []
+    get_string = slave.get_string
+    monkeypatch.setattr(slave, "get_string", lambda vrs: entries.append(list(vrs)) or get_string(vrs))
+    for k in range(5):
+        if fmu.spec.inputs:
+            fmu.fmu.setReal(*inputs_at(fmu, k))
+        fmu.fmu.doStep(k * H, H)
+        snapshot(fmu)
+        assert [s.decode() for s in fmu.fmu.getString(fmu.vrs(strings))] == [slave.values[n] for n in strings]
+    assert len(entries) == 1
     assert slave._shared.header.compiled_steps == 5
     fmu.free()
 

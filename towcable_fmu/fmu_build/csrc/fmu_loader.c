@@ -36,9 +36,11 @@
  * 6. shares each instance's values with its slave (shared_values.h): once the slave has
  *    handed them over (initialised, step mode), gets of Real, Integer and Boolean
  *    variables and sets of Real inputs are served here without Python, and a slave with
- *    a compiled step (ShipMotion, HeaveCompensation) steps without Python too; anything
- *    else, and a compiled call that declines (a non-finite input, a time that does not
- *    follow), goes to pythonfmu, whose slave takes the values back first. The buffer's
+ *    a compiled step (all three; TowCable's is its Simulation's) steps without Python too, and so do
+ *    gets of String parameters the slave has given once since the last call that went to
+ *    it (keep_strings); anything else, and a compiled call that declines (a non-finite
+ *    input, a time that does not follow), goes to pythonfmu, whose slave takes the values
+ *    back first. The buffer's
  *    address reaches only the slave being created: towcable_shared_values() answers
  *    during fmi2Instantiate and fmi2Reset on their thread, no FMI call carries it.
  *
@@ -458,6 +460,8 @@ typedef struct Instance {
     Phase phase;                     /* the state machine's state (state_machine.h) */
     char error_cause[512];           /* in the error state: the message of the call that failed */
     SharedValues *shared;            /* the values shared with the slave (shared_values.h) */
+    char **strings;                  /* String parameters by value reference as the slave gave them
+                                        (NULL: none kept; see keep_strings) */
     int stepped;                     /* a step succeeded: last_step_end is its end */
     fmi2Real last_step_end;          /* fmi2LastSuccessfulTime [s] */
 } Instance;
@@ -670,6 +674,40 @@ static int update_outputs(SharedValues *sh)
         }                                                                         \
     } while (0)
 
+/* String parameters change only in a call that enters the slave (fmi2SetString, a restored
+   state, a reset, a step or mode change it makes): the values it last gave are kept to answer
+   fmi2GetString while the values are served (a host that reads every variable at every step,
+   as libcosim's observers do, would otherwise enter Python at every step), and forgotten at
+   every call but a get that goes to the slave. */
+static void forget_strings(Instance *inst)
+{
+    if (!inst->strings) return;
+    for (size_t i = 0; i < model.index_size; i++) free(inst->strings[i]);
+    free(inst->strings);
+    inst->strings = NULL;
+}
+
+static void keep_strings(Instance *inst, const fmi2ValueReference vr[], size_t n, const fmi2String v[])
+{
+    if (!inst->shared || !inst->shared->served) return;
+    if (!inst->strings) inst->strings = calloc(model.index_size, sizeof *inst->strings);
+    for (size_t i = 0; inst->strings && i < n; i++) {
+        const Variable *var = model_table_find(&model, TYPE_STRING, vr[i]);
+        if (var && var->parameter && v[i] && vr[i] < model.index_size && !inst->strings[vr[i]])
+            inst->strings[vr[i]] = strdup(v[i]);
+    }
+}
+
+/* A get of String parameters answered from those kept (1), or 0: the slave answers it. */
+static int serve_get_string(Instance *inst, const fmi2ValueReference vr[], size_t n, fmi2String v[])
+{
+    if (!inst->strings || !inst->shared || !inst->shared->served) return 0;
+    for (size_t i = 0; i < n; i++)
+        if (vr[i] >= model.index_size || !inst->strings[vr[i]]) return 0;
+    for (size_t i = 0; i < n; i++) v[i] = inst->strings[vr[i]];
+    return 1;
+}
+
 /* Sets of Real inputs kept in the shared values (1), or 0: the slave takes them. */
 static int serve_set_real(Instance *inst, const fmi2ValueReference vr[], size_t n, const fmi2Real v[])
 {
@@ -823,6 +861,7 @@ void fmi2FreeInstance(fmi2Component c)
     }
     if (inst->shared) inst->shared->served = 0;
     if (inst->phase != PHASE_BROKEN) real.FreeInstance(inst->real);
+    forget_strings(inst);
     clear_categories(inst);
     free(inst->shared);
     free(inst->name);
@@ -849,6 +888,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n, const 
 #define FORWARD(call, name, ...)                                        \
     do {                                                                \
         ADMIT(CALL_##call, "fmi2" #name);                               \
+        forget_strings(inst);                                           \
         return finish(inst, CALL_##call, real.name(inst->real, ##__VA_ARGS__)); \
     } while (0)
 
@@ -864,6 +904,7 @@ fmi2Status fmi2Terminate(fmi2Component c) { FORWARD(TERMINATE, Terminate); }
 fmi2Status fmi2Reset(fmi2Component c)
 {
     ADMIT(CALL_RESET, "fmi2Reset");
+    forget_strings(inst);
     if (inst->shared) inst->shared->served = 0;
     inst->stepped = 0;
     attaching = inst;
@@ -875,7 +916,13 @@ fmi2Status fmi2Reset(fmi2Component c)
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean noSetPrior)
 {
     ADMIT(CALL_DO_STEP, "fmi2DoStep");
-    fmi2Status status = compiled_step(inst, t, h) ? fmi2OK : real.DoStep(inst->real, t, h, noSetPrior);
+    fmi2Status status;
+    if (compiled_step(inst, t, h)) {
+        status = fmi2OK;
+    } else {
+        forget_strings(inst);
+        status = real.DoStep(inst->real, t, h, noSetPrior);
+    }
     status = finish(inst, CALL_DO_STEP, status);
     if (status <= fmi2Warning) {
         inst->stepped = 1;
@@ -884,12 +931,13 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean noSet
     return status;
 }
 
-/* A get or set call: admitted, its variables checked, forwarded. */
+/* A set call: admitted, its variables checked, forwarded. */
 #define ACCESS(call, name, type, setting)                                                       \
     do {                                                                                        \
         ADMIT(call, "fmi2" #name);                                                              \
         fmi2Status checked = check_variables(inst, "fmi2" #name, type, vr, n, v, setting);      \
         if (checked != fmi2OK || n == 0) return checked;                                        \
+        forget_strings(inst);                                                                   \
         return finish(inst, call, real.name(inst->real, vr, n, v));                             \
     } while (0)
 
@@ -900,6 +948,7 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean noSet
         fmi2Status checked = check_variables(inst, "fmi2" #name, type, vr, n, v, setting);      \
         if (checked != fmi2OK || n == 0) return checked;                                        \
         serve;                                                                                  \
+        if (setting) forget_strings(inst);                                                      \
         return finish(inst, call, real.name(inst->real, vr, n, v));                             \
     } while (0)
 
@@ -910,7 +959,15 @@ fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Boolean v[])
 { ACCESS_SERVED(CALL_GET, GetBoolean, TYPE_BOOLEAN, 0, SERVE_GET(fmi2Boolean)); }
 fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2String v[])
-{ ACCESS(CALL_GET, GetString, TYPE_STRING, 0); }
+{
+    ADMIT(CALL_GET, "fmi2GetString");
+    fmi2Status checked = check_variables(inst, "fmi2GetString", TYPE_STRING, vr, n, v, 0);
+    if (checked != fmi2OK || n == 0) return checked;
+    if (serve_get_string(inst, vr, n, v)) return fmi2OK;
+    fmi2Status status = finish(inst, CALL_GET, real.GetString(inst->real, vr, n, v));
+    if (status <= fmi2Warning) keep_strings(inst, vr, n, v);
+    return status;
+}
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Real v[])
 { ACCESS_SERVED(CALL_SET, SetReal, TYPE_REAL, 1, if (serve_set_real(inst, vr, n, v)) return fmi2OK); }
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Integer v[])
@@ -967,6 +1024,7 @@ fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s)
     ADMIT(CALL_SET_STATE, "fmi2SetFMUstate");
     State *st = find_state(s);
     if (!st) return refuse(inst, "fmi2SetFMUstate", "the state %p " NOT_A_STATE, s, model_identifier);
+    forget_strings(inst);
     fmi2Status status = finish(inst, CALL_SET_STATE, real.SetFMUstate(inst->real, st->real));
     if (status < fmi2Error) inst->phase = st->phase; /* a refused state left the instance as it was */
     return status;
