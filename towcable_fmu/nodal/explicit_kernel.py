@@ -90,9 +90,9 @@ _WORK_ROWS = 20
 #: 270 at 104 and 120, 289 at 136 (270 compiled for haswell).
 STRIDE = 120
 #: the element loop's passes are rounded up to this many elements (its vector width) where the
-#: rows have room: a cable of 2 elements takes one vector pass instead of the scalar remainder
-#: loop (the extra elements compute from the empty columns beyond the last node and are read
-#: by nobody)
+#: rows have room and the drag has the closed form: a cable of 2 elements takes one vector pass
+#: instead of the scalar remainder loop (the extra elements compute from the empty columns
+#: beyond the last node and are read by nobody)
 _LANES = 4
 
 
@@ -261,13 +261,16 @@ def element_forces(stride: int, closed: bool, wet: bool, n_nodes: int, water: tu
     buoyancy, split by the linear shape functions, and the added mass C_a rho A (I - u u^T)
     lumped by the same weights (the scalars _K0, _K1 times I - u u^T). ``stride``: the rows'
     length (a literal where the step is compiled for it); ``closed``: as :func:`_point_drag`.
-    The loop runs on to a multiple of :data:`_LANES` elements where the rows have room.
+    With ``closed`` the loop runs on to a multiple of :data:`_LANES` elements where the rows
+    have room.
     The other arguments are the fields of a :class:`LumpedCable` of the same names."""
     surface, rho, viscosity = water[0], water[1], water[2]
     f0, f1, f2, g0, g1, g2 = flow[0], flow[1], flow[2], flow[3], flow[4], flow[5]
     s = stride
     x, y, z, vx, vy, vz = _X * s, (_X + 1) * s, (_X + 2) * s, _V * s, (_V + 1) * s, (_V + 2) * s
-    for e in range(min((n_nodes + _LANES - 2) // _LANES * _LANES, s - 1)):  # (_LANES)
+    # (padded only with the closed-form drag, which reads no per-element array but the rows)
+    count = min((n_nodes + _LANES - 2) // _LANES * _LANES, s - 1) if closed else n_nodes - 1
+    for e in range(count):
         dx, dy, dz = work[x + e + 1] - work[x + e], work[y + e + 1] - work[y + e], work[z + e + 1] - work[z + e]
         length = math.sqrt(dx * dx + dy * dy + dz * dz)
         inv = 1.0 / length  # a collapsed element: no direction (NaN)
