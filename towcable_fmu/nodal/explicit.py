@@ -36,7 +36,7 @@ import math
 import numpy as np
 
 from ..jit.kernel_cache import njit
-from .explicit_kernel import (STEP_FASTMATH, STRIDES, explicit_outputs, leapfrog_update, load_state, lumped_cable,
+from .explicit_kernel import (STEP_FASTMATH, STRIDE, explicit_outputs, leapfrog_update, load_state, lumped_cable,
                               lumped_forces, new_work, set_top, store_state, update_with)
 from .integrators import (CLOCK_TIME, STAT_RESIDUALS, STAT_STEPS, Interpolant, NodalOptions, NodalState,
                           interpolate_step, prescribe_top_with)
@@ -242,19 +242,13 @@ def _recording_with(plain: bool, stride: int, closed: bool, args: tuple) -> int:
     return samples.size
 
 
-# the loop compiled three times, each its own function: one function holding the plain loop
-# beside the general top's and the other strides' code made a step of the snapping cable
-# about 50 ns slower (an earlier measurement)
+# the loop compiled twice, each its own function: one function holding the plain loop beside
+# the general top's code made a step of the snapping cable about 50 ns slower (an earlier
+# measurement)
 @njit(cache=True, error_model="numpy", fastmath=STEP_FASTMATH)
-def _recording_plain_short(args: tuple) -> int:
-    """:func:`_recording_with` for a plain drive, closed-form drag and the first stride."""
-    return _recording_with(True, STRIDES[0], True, args)
-
-
-@njit(cache=True, error_model="numpy", fastmath=STEP_FASTMATH)
-def _recording_plain_long(args: tuple) -> int:
-    """:func:`_recording_with` for a plain drive, closed-form drag and the second stride."""
-    return _recording_with(True, STRIDES[1], True, args)
+def _recording_plain(args: tuple) -> int:
+    """:func:`_recording_with` for a plain drive, closed-form drag and the compiled stride."""
+    return _recording_with(True, STRIDE, True, args)
 
 
 @njit(cache=True, error_model="numpy", fastmath=STEP_FASTMATH)
@@ -291,9 +285,6 @@ def leapfrog_recording(m: NodalModel, mass: np.ndarray, options: NodalOptions, s
     load_state(state.q, state.v, state.x, work, c.stride)
     args = (c, work, m.top_on_ship, m.top_point, options.h_max, state, samples, drive_t, drive_x, values, ip,
             interpolate, t_land)
-    if m.top_on_ship and drive_t.shape[0] >= 2 and c.closed and drive_is_plain(drive_x):
-        if c.stride == STRIDES[0]:
-            return _recording_plain_short(args)
-        if c.stride == STRIDES[1]:
-            return _recording_plain_long(args)
+    if m.top_on_ship and drive_t.shape[0] >= 2 and c.closed and c.stride == STRIDE and drive_is_plain(drive_x):
+        return _recording_plain(args)
     return _recording_general(args)

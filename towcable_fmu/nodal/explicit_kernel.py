@@ -68,7 +68,7 @@ _BODY_ENTRIES = 15
 
 # The step's arrays are structures of arrays: one flat array of rows, row r's entry j at
 # r * stride + j (node j, or element j between nodes j and j + 1). With a stride known to
-# the compiler (:data:`STRIDES`, a literal where the step is inlined) every access of a loop
+# the compiler (:data:`STRIDE`, a literal where the step is inlined) every access of a loop
 # lies at a constant distance from the others in one array, so LLVM vectorises the element
 # and node loops with no run-time alias checks (with separate arrays it needs more checks
 # than it allows and leaves the loops scalar).
@@ -81,10 +81,19 @@ _TABLE_ROWS = 12
 #: [N], its added masses lumped on them [kg], its unit tangent
 _X, _V, _A, _F0, _F1, _K0, _K1, _U = 0, 3, 6, 9, 12, 15, 16, 17
 _WORK_ROWS = 20
-#: the strides compiled as constants (nodes per row): the first that holds the cable; longer
-#: cables use their node count (the same code, not vectorised). (Rows 32 apart: LLVM left the
-#: element and node loops scalar; 40, 72, 136: vectorised, 4 doubles wide on this AVX2 machine.)
-STRIDES = (40, 136)
+#: the stride compiled as a constant (nodes per row) for every cable that fits; longer cables
+#: use their node count (the same code, not vectorised). LLVM picks the element loop's vector
+#: width from the stride (on this AMD EPYC, znver3, and compiled for haswell alike): rows 32
+#: apart left the loops scalar, 40 to 64 apart the element loop 2 doubles wide, 72 to 136
+#: apart 4 wide, which halves its passes (latency-bound: three square roots and a division
+#: per element); 16-element snapping cable, scratch loop: 385 ns per step at 40, 274 at 72,
+#: 270 at 104 and 120, 289 at 136 (270 compiled for haswell).
+STRIDE = 120
+#: the element loop's passes are rounded up to this many elements (its vector width) where the
+#: rows have room and the drag has the closed form: a cable of 2 elements takes one vector pass
+#: instead of the scalar remainder loop (the extra elements compute from the empty columns
+#: beyond the last node and are read by nobody)
+_LANES = 4
 
 
 class LumpedCable(NamedTuple):
@@ -110,10 +119,7 @@ class LumpedCable(NamedTuple):
 @njit(cache=True)
 def stride_for(n_nodes: int) -> int:
     """Entries per row of the step's arrays for a cable of ``n_nodes`` nodes."""
-    for s in STRIDES:
-        if n_nodes <= s:
-            return s
-    return n_nodes
+    return STRIDE if n_nodes <= STRIDE else n_nodes
 
 
 @njit(cache=True)
@@ -255,12 +261,16 @@ def element_forces(stride: int, closed: bool, wet: bool, n_nodes: int, water: tu
     buoyancy, split by the linear shape functions, and the added mass C_a rho A (I - u u^T)
     lumped by the same weights (the scalars _K0, _K1 times I - u u^T). ``stride``: the rows'
     length (a literal where the step is compiled for it); ``closed``: as :func:`_point_drag`.
+    With ``closed`` the loop runs on to a multiple of :data:`_LANES` elements where the rows
+    have room.
     The other arguments are the fields of a :class:`LumpedCable` of the same names."""
     surface, rho, viscosity = water[0], water[1], water[2]
     f0, f1, f2, g0, g1, g2 = flow[0], flow[1], flow[2], flow[3], flow[4], flow[5]
     s = stride
     x, y, z, vx, vy, vz = _X * s, (_X + 1) * s, (_X + 2) * s, _V * s, (_V + 1) * s, (_V + 2) * s
-    for e in range(n_nodes - 1):
+    # (padded only with the closed-form drag, which reads no per-element array but the rows)
+    count = min((n_nodes + _LANES - 2) // _LANES * _LANES, s - 1) if closed else n_nodes - 1
+    for e in range(count):
         dx, dy, dz = work[x + e + 1] - work[x + e], work[y + e + 1] - work[y + e], work[z + e + 1] - work[z + e]
         length = math.sqrt(dx * dx + dy * dy + dz * dz)
         inv = 1.0 / length  # a collapsed element: no direction (NaN)
@@ -421,11 +431,8 @@ def leapfrog_update(n_nodes: int, closed: bool, stride: int, wet: bool, body_on:
     passed inside the step loop is reference-counted field by field at every step). The code
     is compiled for the cable's stride (a literal: vectorised) and drag (the closed form
     inline) where it can be."""
-    if closed and stride == STRIDES[0]:
-        update_with(STRIDES[0], True, n_nodes, wet, body_on, water, gravity, end_mass, flow, body, hydro, kind, table,
-                    work, h)
-    elif closed and stride == STRIDES[1]:
-        update_with(STRIDES[1], True, n_nodes, wet, body_on, water, gravity, end_mass, flow, body, hydro, kind, table,
+    if closed and stride == STRIDE:
+        update_with(STRIDE, True, n_nodes, wet, body_on, water, gravity, end_mass, flow, body, hydro, kind, table,
                     work, h)
     else:
         update_with(stride, False, n_nodes, wet, body_on, water, gravity, end_mass, flow, body, hydro, kind, table,
