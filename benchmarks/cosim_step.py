@@ -96,12 +96,12 @@ def _contact_tangents(model, q, v, ship, n):
 
 @njit(cache=True)
 def _hydro_tangents(model, q, v, t, n):
-    ke = np.empty((12, 12))
+    ne = model.el_len.shape[0]
+    blocks = np.empty((ne, 12, 12))
+    wet = np.empty(ne, dtype=np.bool_)
     for _ in range(n):
-        for e in range(model.el_len.shape[0]):
-            ke[:, :] = 0.0
-            hydro_quadrature.add_jacobian(model.water, model.terms.hydrodynamics, model.el_len, q, v, t, e, 1.0,
-                                          1e-3, 1e-5, ke)
+        hydro_quadrature.add_jacobians(model.water, model.terms.hydrodynamics, model.el_len, q, v, t, 1.0, 1e-3,
+                                       1e-5, blocks, wet)
 
 
 @njit(cache=True)

@@ -269,8 +269,24 @@ def section(res: dict) -> str:
                               "factorisations"], rows))
 
 
+#: The hand-written section of results/defaults.md that a regeneration keeps: the defaults
+#: against an earlier commit (``defaults_ab.py``), which this benchmark does not measure.
+KEPT_SECTION = "## Before and after"
+
+
+def kept_section() -> str:
+    """The current results/defaults.md's :data:`KEPT_SECTION` up to the next section ("" if none)."""
+    path = RESULTS / "defaults.md"
+    text = path.read_text(encoding="utf-8") if path.is_file() else ""
+    start = text.find("\n" + KEPT_SECTION + "\n")
+    if start < 0:
+        return ""
+    end = text.find("\n## ", start + 1)
+    return text[start + 1:end + 1 if end >= 0 else len(text)]
+
+
 def report(results: list[dict], total: float) -> str:
-    """The Markdown of results/defaults.md."""
+    """The Markdown of results/defaults.md (with the current file's :data:`KEPT_SECTION`)."""
     return ("# Default solver settings of the built-in scenes against their efficient fronts\n\n" + machine_header()
             + f"\nPer scene: one headline signal over a run holding the scene's main dynamics, at the scene's output "
               "interval. Reference: elements x 2, time step / 8, newton_tol / 10 (tug_tow: rtol and atol / 1000). "
@@ -283,7 +299,7 @@ def report(results: list[dict], total: float) -> str:
               f"than 15 % faster. The whole benchmark took {total / 60:.1f} min.\n\n"
             + markdown_table(["scene", "model", "signal", "duration [s]", "default", "error [%]", "x real time",
                               "within 1 %", "fastest within 1 %", "on the front"], [summary_row(r) for r in results])
-            + "\n![work-precision](defaults_work_precision.png)\n\n## The scenes\n"
+            + "\n![work-precision](defaults_work_precision.png)\n\n" + kept_section() + "## The scenes\n"
             + "".join(section(r) for r in results))
 
 

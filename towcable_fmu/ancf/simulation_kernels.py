@@ -69,10 +69,12 @@ def _hydro_residual() -> tuple:
     return m.water, m.terms.hydrodynamics, m.el_len, st.q, st.v, st.a, 0.0, np.intp(0), np.intp(1), s.workspace.r
 
 
-def _hydro_jacobian() -> tuple:
+def _hydro_jacobians() -> tuple:
     s = _reference()
     m, st = s.model, s.state
-    return m.water, m.terms.hydrodynamics, m.el_len, st.q, st.v, 0.0, np.intp(0), 1.0, 0.0, 0.0, np.zeros((12, 12))
+    ne = m.el_len.shape[0]
+    return (m.water, m.terms.hydrodynamics, m.el_len, st.q, st.v, 0.0, 1.0, 0.0, 0.0, np.zeros((ne, 12, 12)),
+            np.zeros(ne, dtype=np.bool_))
 
 
 def _link_rows() -> tuple:
@@ -163,10 +165,10 @@ def kernel_jobs() -> list[Job]:
             ("contact.add_residual", "ancf.rigid_link_rows", "hydro.add_residual", "hydro.add_residual_in_waves")),
         Job("contact.add_jacobian", cable_contact.add_jacobian, _contact_jacobian, 3.1,
             ("kinematics.rotation_derivatives",)),
-        Job("hydro.add_jacobian", cable_hydro.add_jacobian, _hydro_jacobian, 1.8),
-        Job("hydro.add_jacobian_in_waves", wave_hydro.add_jacobian, _hydro_jacobian, 1.8),
+        Job("hydro.add_jacobians", cable_hydro.add_jacobians, _hydro_jacobians, 1.8),
+        Job("hydro.add_jacobians_in_waves", wave_hydro.add_jacobians, _hydro_jacobians, 1.8),
         Job("ancf.iteration_matrix", iteration_matrix, _iteration_matrix, 8.0,
-            ("contact.add_jacobian", "hydro.add_jacobian", "hydro.add_jacobian_in_waves", "ancf.rigid_link_rows")),
+            ("contact.add_jacobian", "hydro.add_jacobians", "hydro.add_jacobians_in_waves", "ancf.rigid_link_rows")),
         Job("contact.surface_summary", cable_contact.surface_summary, _surface_summary, 2.8,
             ("kinematics.rotation_derivatives",)),
         Job("ancf.band_lu", band_lu, lambda: _band(False), 0.3),

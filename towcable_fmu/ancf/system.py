@@ -37,7 +37,9 @@ def _linear_forces(mass: np.ndarray, damp: np.ndarray, bend: np.ndarray, e: int,
             out[base + 3 * i + c] += acc
 
 
-@njit(cache=True)
+# IR-inlined where a kernel calls it (the Newton iteration): a call of its own, which passes
+# the whole model once more, cost about 1.2 us of a 13 us residual (snapping_cable, measured).
+@njit(cache=True, inline="always")
 def residual(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, t: float, ship: np.ndarray,
              out: np.ndarray) -> float:
     """Residual of the equations of motion over all coordinates.
@@ -77,24 +79,27 @@ def residual_span(model: CableModel, q: np.ndarray, v: np.ndarray, a: np.ndarray
     """
     work = axial_work(model.gauss_dn, model.gauss_w)
     fe = np.empty(12)
+    # the model's arrays read once, outside the loops
+    f_const, node_mass, el_len, el_ea = model.f_const, model.node_mass, model.el_len, model.el_ea
+    tension_only, engineering, el_taut = model.el_tension_only, model.el_engineering, model.el_taut
+    mass, damp, bend = model.el_mass, model.el_damp, model.el_bend
     for i in range(out.shape[0]):
-        out[i] = -model.f_const[i]
+        out[i] = -f_const[i]
     energy = 0.0
     for e in range(first, stop):
         base = 6 * e
-        _linear_forces(model.el_mass, model.el_damp, model.el_bend, e, q, v, a, base, out)
-        length = model.el_len[e]
+        _linear_forces(mass, damp, bend, e, q, v, a, base, out)
+        length = el_len[e]
         at_length(work, length)
         fe[:] = 0.0
-        u, taut = axial_force(q, base, length, model.el_ea[e], model.el_tension_only[e], model.el_engineering[e],
-                              work, fe)
+        u, taut = axial_force(q, base, length, el_ea[e], tension_only[e], engineering[e], work, fe)
         energy += u
-        model.el_taut[TAUT_RESIDUAL, e] = taut
+        el_taut[TAUT_RESIDUAL, e] = taut
         for i in range(12):
             out[base + i] += fe[i]
     for n in range(first, stop + 1):
         for c in range(3):
-            out[6 * n + c] += model.node_mass[n, c] * a[6 * n + c]
+            out[6 * n + c] += node_mass[n, c] * a[6 * n + c]
     add_residuals(model, Motion(q, v, t, ship), a, first, stop, out)
     return energy
 
@@ -118,7 +123,11 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
         Output band storage (:mod:`towcable_fmu.numerics.banded`), shape (n, 2 kl + ku + 1); overwritten.
     """
     ab[:, :] = 0.0
-    ne = model.el_len.shape[0]
+    # the model's arrays read once, outside the loops
+    el_len, el_ea, tension_only, engineering = model.el_len, model.el_ea, model.el_tension_only, model.el_engineering
+    mass, damp, bend, el_taut = model.el_mass, model.el_damp, model.el_bend, model.el_taut
+    kl, ku, free_idx, node_mass = model.kl, model.ku, model.free_idx, model.node_mass
+    ne = el_len.shape[0]
     work = axial_work(model.gauss_dn, model.gauss_w)
     ke = np.empty((12, 12))
     for e in range(ne):
@@ -126,19 +135,18 @@ def iteration_matrix(model: CableModel, q: np.ndarray, v: np.ndarray, t: float, 
         ke[:, :] = 0.0
         for i in range(4):
             for j in range(4):
-                val = ca * model.el_mass[e, i, j] + cv * model.el_damp[e, i, j] + cq * model.el_bend[e, i, j]
+                val = ca * mass[e, i, j] + cv * damp[e, i, j] + cq * bend[e, i, j]
                 for c in range(3):
                     ke[3 * i + c, 3 * j + c] = val
-        length = model.el_len[e]
+        length = el_len[e]
         at_length(work, length)
-        model.el_taut[TAUT_MATRIX, e] = axial_tangent(q, base, length, model.el_ea[e], model.el_tension_only[e],
-                                                      model.el_engineering[e], work, cq, ke)
-        band_add_block(ab, model.kl, model.ku, model.free_idx, base, ke)
-    off = model.kl + model.ku
-    nn = model.node_mass.shape[0]
-    for n in range(nn):
+        el_taut[TAUT_MATRIX, e] = axial_tangent(q, base, length, el_ea[e], tension_only[e], engineering[e], work, cq,
+                                                ke)
+        band_add_block(ab, kl, ku, free_idx, base, ke)
+    off = kl + ku
+    for n in range(node_mass.shape[0]):
         for c in range(3):
-            fi = model.free_idx[6 * n + c]
+            fi = free_idx[6 * n + c]
             if fi >= 0:
-                ab[fi, off] += ca * model.node_mass[n, c]
+                ab[fi, off] += ca * node_mass[n, c]
     add_tangents(model, Motion(q, v, t, ship), ca, cv, cq, ab)

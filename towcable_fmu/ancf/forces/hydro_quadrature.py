@@ -111,53 +111,63 @@ def add_residual(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
 
 
 @njit(cache=True)
-def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarray, v: np.ndarray, t: float,
-                 e: int, ca: float, cv: float, cq: float, ke: np.ndarray) -> bool:
-    """Add element e's hydrodynamic part of ``ca M + cv C + cq K`` to the 12x12 block ``ke``;
-    False (nothing added) for a dry element or one without hydrodynamic loads.
+def add_jacobians(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarray, v: np.ndarray, t: float,
+                  ca: float, cv: float, cq: float, blocks: np.ndarray, wet: np.ndarray) -> None:
+    """Every element's hydrodynamic part of ``ca M + cv C + cq K``: element e's 12x12 block
+    in ``blocks[e]`` (ne, 12, 12) and ``wet[e]`` (ne,) True, or ``wet[e]`` False (block
+    not written) for a dry element or one without hydrodynamic loads.
 
     Added mass exactly (W(74)); the exact derivatives of the point load with respect to the
     point velocity, the cable slope and the height (:func:`point_tangent`); the stiffness
-    of the moving waterline crossing from the derivative of the wet length.
+    of the moving waterline crossing from the derivative of the wet length. One call per
+    matrix: the work arrays are allocated once for all elements.
     """
-    if not hy.el_on[e]:
-        return False
-    base = 6 * e
-    length = el_len[e]
-    if _is_dry(w, q, base, length):
-        return False
-    npts = hy.el_npts[e]
-    m = 2 * npts
+    npts_max = hy.el_npts.max()
+    m = 2 * npts_max
     xi = np.empty(m)
     wt = np.empty(m)
     g = np.empty(m)
     cross = np.empty(m, dtype=np.int64)
-    fpt = np.zeros((m, 3))
-    count = _quadrature(w, q, base, length, npts, xi, wt, g, cross)
-    section = element_section(hy, e)
-    rho_a_cm = w.density * section.area * section.cm
+    fpt = np.empty((m, 3))
+    dg = np.zeros((npts_max, 3))
+    dg[:, 2] = -1.0  # g = surface - z
     on_point = np.empty((3, 3))  # the load's derivative with respect to the point (added mass, velocity, height)
     on_slope = np.empty((3, 3))
-    for p in range(count):
-        wp = wt[p]
-        if wp == 0.0:
+    evaluations = 0
+    for e in range(el_len.shape[0]):
+        wet[e] = False
+        if not hy.el_on[e]:
             continue
-        n = hermite(xi[p], length)
-        rz = interpolate(q, base, n[0], n[1], n[2], n[3])[2]
-        slope = interpolate(q, base, n[4], n[5], n[6], n[7])
-        f, dv, dp, dz = point_tangent(w, section, t, rz, slope, interpolate(v, base, n[0], n[1], n[2], n[3]))
-        fpt[p, 0], fpt[p, 1], fpt[p, 2] = f
-        u = unit_direction(slope)
-        for c in range(3):
-            for k in range(3):
-                mass = rho_a_cm * ((1.0 if c == k else 0.0) - u[c] * u[k])
-                on_point[c, k] = ca * mass - cv * dv[3 * c + k]
-                on_slope[c, k] = -cq * dp[3 * c + k]
-            on_point[c, 2] -= cq * dz[c]
-        add_point_block(ke, wp, n, on_point, on_slope, True)
-    if cq != 0.0:
-        dg = np.zeros((npts, 3))
-        dg[:, 2] = -1.0  # g = surface - z
-        crossing_stiffness(length, npts, cq, xi, g, dg, cross, fpt, count, ke)
-    hy.calls[0] += count
-    return True
+        base = 6 * e
+        length = el_len[e]
+        if _is_dry(w, q, base, length):
+            continue
+        wet[e] = True
+        ke = blocks[e]
+        ke[:, :] = 0.0
+        npts = hy.el_npts[e]
+        fpt[:2 * npts] = 0.0
+        count = _quadrature(w, q, base, length, npts, xi, wt, g, cross)
+        section = element_section(hy, e)
+        rho_a_cm = w.density * section.area * section.cm
+        for p in range(count):
+            wp = wt[p]
+            if wp == 0.0:
+                continue
+            n = hermite(xi[p], length)
+            rz = interpolate(q, base, n[0], n[1], n[2], n[3])[2]
+            slope = interpolate(q, base, n[4], n[5], n[6], n[7])
+            f, dv, dp, dz = point_tangent(w, section, t, rz, slope, interpolate(v, base, n[0], n[1], n[2], n[3]))
+            fpt[p, 0], fpt[p, 1], fpt[p, 2] = f
+            u = unit_direction(slope)
+            for c in range(3):
+                for k in range(3):
+                    mass = rho_a_cm * ((1.0 if c == k else 0.0) - u[c] * u[k])
+                    on_point[c, k] = ca * mass - cv * dv[3 * c + k]
+                    on_slope[c, k] = -cq * dp[3 * c + k]
+                on_point[c, 2] -= cq * dz[c]
+            add_point_block(ke, wp, n, on_point, on_slope, True)
+        if cq != 0.0:
+            crossing_stiffness(length, npts, cq, xi, g, dg, cross, fpt, count, ke)
+        evaluations += count
+    hy.calls[0] += evaluations

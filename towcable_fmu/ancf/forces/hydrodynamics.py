@@ -70,21 +70,22 @@ def residual(term: CableHydro, model: CableModel, motion: Motion, a: np.ndarray,
 @njit(cache=True, inline="always")  # (as residual)
 def tangent(term: CableHydro, model: CableModel, motion: Motion, ca: float, cv: float, cq: float,
             ab: np.ndarray) -> None:
-    """Added mass, drag and waterline-crossing tangents, element by element."""
+    """Added mass, drag and waterline-crossing tangents: every element's block from one
+    call of the quadrature chosen by the water (as :func:`residual`), then the wet ones added."""
     if not model.water.enabled:
         return
-    ke = np.empty((12, 12))
-    still = model.water.waves.shape[0] == 0
-    for e in range(model.el_len.shape[0]):
-        ke[:, :] = 0.0
-        if still:
-            added = cable_hydro.add_jacobian(model.water, term, model.el_len, motion.q, motion.v, motion.t, e, ca,
-                                             cv, cq, ke)
-        else:
-            added = wave_hydro.add_jacobian(model.water, term, model.el_len, motion.q, motion.v, motion.t, e, ca,
-                                            cv, cq, ke)
-        if added:
-            add_element_block(model, e, ke, ab)
+    ne = model.el_len.shape[0]
+    blocks = np.empty((ne, 12, 12))
+    wet = np.empty(ne, dtype=np.bool_)
+    if model.water.waves.shape[0] == 0:
+        cable_hydro.add_jacobians(model.water, term, model.el_len, motion.q, motion.v, motion.t, ca, cv, cq, blocks,
+                                  wet)
+    else:
+        wave_hydro.add_jacobians(model.water, term, model.el_len, motion.q, motion.v, motion.t, ca, cv, cq, blocks,
+                                 wet)
+    for e in range(ne):
+        if wet[e]:
+            add_element_block(model, e, blocks[e], ab)
 
 
 class Hooks(TermHooks):

@@ -238,69 +238,76 @@ def add_residual(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarra
 
 
 @njit(cache=True)
-def add_jacobian(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarray, v: np.ndarray, t: float,
-                 e: int, ca: float, cv: float, cq: float, ke: np.ndarray) -> bool:
-    """Add element e's hydrodynamic part of ``ca M + cv C + cq K`` in waves to the 12x12 block
-    ``ke``; False (nothing added) for a dry element or one without hydrodynamic loads.
+def add_jacobians(w: WaterModel, hy: CableHydro, el_len: np.ndarray, q: np.ndarray, v: np.ndarray, t: float,
+                  ca: float, cv: float, cq: float, blocks: np.ndarray, wet: np.ndarray) -> None:
+    """Every element's hydrodynamic part of ``ca M + cv C + cq K`` in waves, stored as
+    :func:`.hydro_quadrature.add_jacobians` does (``blocks[e]``, ``wet[e]``).
 
     Added mass exactly (W(74)); the exact derivatives of the point load with respect to the
     point velocity, the cable slope and the position (:func:`point_tangent_in_waves`, with
     the waves' gradients evaluated in full at the iterate); the stiffness of the moving
     waterline crossing from the derivative of the wet length (the surface's slope included).
     The first evaluation at a time (the Jacobian of a step's predicted state) is also the
-    residuals' reference there.
+    residuals' reference there. The work arrays are allocated once for all elements.
     """
-    if not hy.el_on[e]:
-        return False
     gen = _generation(hy, t)
-    base = 6 * e
-    length = el_len[e]
-    low, high, mx, my, radius = _hull(q, base, length)
-    if _is_dry(w, hy, gen, e, low, mx, my, radius, t, False):
-        return False
-    npts = hy.el_npts[e]
-    m = 2 * npts
+    m = 2 * hy.el_npts.max()
     xi = np.empty(m)
     wt = np.empty(m)
     g = np.empty(m)
     cross = np.empty(m, dtype=np.int64)
-    fpt = np.zeros((m, 3))
+    fpt = np.empty((m, 3))
     dg = np.empty((m, 3))
     work = np.empty(scratch_size(w.waves))
     kin = np.empty(OUT_SIZE)
-    count = _quadrature(w, hy, gen, e, q, base, length, npts, high, t, False, xi, wt, g, dg, cross)
-    section = element_section(hy, e)
-    rho_a_cm = w.density * section.area * section.cm
     on_point = np.empty((3, 3))  # the load's derivative with respect to the point (added mass, velocity, position)
     on_slope = np.empty((3, 3))
-    for p in range(count):
-        wp = wt[p]
-        if wp == 0.0:
+    evaluations = 0
+    for e in range(el_len.shape[0]):
+        wet[e] = False
+        if not hy.el_on[e]:
             continue
-        n = hermite(xi[p], length)
-        r = interpolate(q, base, n[0], n[1], n[2], n[3])
-        slope = interpolate(q, base, n[4], n[5], n[6], n[7])
-        slot = p if p < npts else npts + cross[p]
-        if hy.wave_stamp[e, slot, KINEMATICS] != gen:  # the first evaluation at t: the residuals' reference
-            kw = _reference(w, hy, gen, e, slot, r, t, work)[KIN:]
-        else:
-            water_waves(w, r[0], r[1], r[2], t, True, work, kin)
-            kw = kin[:]
-        wave = (kw[VEL], kw[VEL + 1], kw[VEL + 2], kw[ACC], kw[ACC + 1], kw[ACC + 2])
-        dwave = (kw[DVEL], kw[DVEL + 1], kw[DVEL + 2], kw[DVEL + 3], kw[DVEL + 4], kw[DVEL + 5], kw[DVEL + 6],
-                 kw[DVEL + 7], kw[DVEL + 8], kw[DACC], kw[DACC + 1], kw[DACC + 2], kw[DACC + 3], kw[DACC + 4],
-                 kw[DACC + 5], kw[DACC + 6], kw[DACC + 7], kw[DACC + 8])
-        f, dv, dp, dr = point_tangent_in_waves(w, section, t, r[2], slope,
-                                               interpolate(v, base, n[0], n[1], n[2], n[3]), wave, dwave)
-        fpt[p, 0], fpt[p, 1], fpt[p, 2] = f
-        u = unit_direction(slope)
-        for c in range(3):
-            for k in range(3):
-                mass = rho_a_cm * ((1.0 if c == k else 0.0) - u[c] * u[k])
-                on_point[c, k] = ca * mass - cv * dv[3 * c + k] - cq * dr[3 * c + k]
-                on_slope[c, k] = -cq * dp[3 * c + k]
-        add_point_block(ke, wp, n, on_point, on_slope, True)
-    if cq != 0.0:
-        crossing_stiffness(length, npts, cq, xi, g, dg, cross, fpt, count, ke)
-    hy.calls[0] += count
-    return True
+        base = 6 * e
+        length = el_len[e]
+        low, high, mx, my, radius = _hull(q, base, length)
+        if _is_dry(w, hy, gen, e, low, mx, my, radius, t, False):
+            continue
+        wet[e] = True
+        ke = blocks[e]
+        ke[:, :] = 0.0
+        npts = hy.el_npts[e]
+        fpt[:2 * npts] = 0.0
+        count = _quadrature(w, hy, gen, e, q, base, length, npts, high, t, False, xi, wt, g, dg, cross)
+        section = element_section(hy, e)
+        rho_a_cm = w.density * section.area * section.cm
+        for p in range(count):
+            wp = wt[p]
+            if wp == 0.0:
+                continue
+            n = hermite(xi[p], length)
+            r = interpolate(q, base, n[0], n[1], n[2], n[3])
+            slope = interpolate(q, base, n[4], n[5], n[6], n[7])
+            slot = p if p < npts else npts + cross[p]
+            if hy.wave_stamp[e, slot, KINEMATICS] != gen:  # the first evaluation at t: the residuals' reference
+                kw = _reference(w, hy, gen, e, slot, r, t, work)[KIN:]
+            else:
+                water_waves(w, r[0], r[1], r[2], t, True, work, kin)
+                kw = kin[:]
+            wave = (kw[VEL], kw[VEL + 1], kw[VEL + 2], kw[ACC], kw[ACC + 1], kw[ACC + 2])
+            dwave = (kw[DVEL], kw[DVEL + 1], kw[DVEL + 2], kw[DVEL + 3], kw[DVEL + 4], kw[DVEL + 5], kw[DVEL + 6],
+                     kw[DVEL + 7], kw[DVEL + 8], kw[DACC], kw[DACC + 1], kw[DACC + 2], kw[DACC + 3], kw[DACC + 4],
+                     kw[DACC + 5], kw[DACC + 6], kw[DACC + 7], kw[DACC + 8])
+            f, dv, dp, dr = point_tangent_in_waves(w, section, t, r[2], slope,
+                                                   interpolate(v, base, n[0], n[1], n[2], n[3]), wave, dwave)
+            fpt[p, 0], fpt[p, 1], fpt[p, 2] = f
+            u = unit_direction(slope)
+            for c in range(3):
+                for k in range(3):
+                    mass = rho_a_cm * ((1.0 if c == k else 0.0) - u[c] * u[k])
+                    on_point[c, k] = ca * mass - cv * dv[3 * c + k] - cq * dr[3 * c + k]
+                    on_slope[c, k] = -cq * dp[3 * c + k]
+            add_point_block(ke, wp, n, on_point, on_slope, True)
+        if cq != 0.0:
+            crossing_stiffness(length, npts, cq, xi, g, dg, cross, fpt, count, ke)
+        evaluations += count
+    hy.calls[0] += evaluations
