@@ -33,7 +33,7 @@ class WaterModel(NamedTuple):
     turb_t0: float        #: time of the first turbulence sample [s]
     turb_dt: float        #: sample interval [s]
     turb: np.ndarray      #: (n, 3) turbulent velocity samples [m/s]; n = 0: no turbulence
-    waves: np.ndarray     #: (n, 9) wave components (:func:`towcable_fmu.hydro.waves.component_table`); n = 0: none
+    waves: np.ndarray     #: (n, 10) wave components (:func:`towcable_fmu.hydro.waves.component_table`); n = 0: none
     wave_depth: float     #: water depth h [m] of the waves' dispersion (inf: deep water)
     wave_stretch: int     #: stretching code (towcable_fmu.hydro.waves.STRETCHINGS)
     wave_ramp: float      #: ramp time [s] of the waves (the motion's)
@@ -44,7 +44,7 @@ class WaterModel(NamedTuple):
 def dry_water() -> WaterModel:
     """The water of a scene without water."""
     return WaterModel(False, 0.0, 1.0, -np.inf, 0.0, CURRENT_NONE, np.zeros(3), np.zeros(3), 0.0, 1.0,
-                      np.zeros((0, 3)), np.zeros((0, 9)), np.inf, 0, 0.0, 0.0, 0.0)
+                      np.zeros((0, 3)), np.zeros((0, 10)), np.inf, 0, 0.0, 0.0, 0.0)
 
 
 def still_water(w: WaterModel) -> WaterModel:
