@@ -123,5 +123,6 @@ class Remeshing:
     def _after_event(self) -> bool:
         """After a step stopped at an event (a spool end's fed element out of its band), the
         term whose event it is remeshes (:meth:`~towcable_fmu.ancf.forces.hooks.TermHooks.handle_event`).
-        False if no term had an event (the step failed)."""
-        return any(hooks.handle_event() for hooks in self.hooks)
+        False if no term had an event (the step failed). Only a term that moves the mesh has
+        events: a scene without one pays nothing here at every call."""
+        return any(hooks.handle_event() for hooks in self._remeshing)

@@ -134,7 +134,9 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         self._moving_mesh = False
         #: the force terms' hooks (:mod:`towcable_fmu.ancf.forces.hooks`), in the order of their terms
         self.hooks: tuple[TermHooks, ...] = build_hooks(scene, self)
-        self._moving_mesh = any(h.MOVES_MESH for h in self.hooks)
+        #: the hooks whose term moves the mesh: the only ones with events (:meth:`_after_event`)
+        self._remeshing = tuple(h for h in self.hooks if h.MOVES_MESH)
+        self._moving_mesh = bool(self._remeshing)
         #: the hooks with a state of their own, those acting between steps, those with outputs in Python
         self._saving = tuple(h for h in self.hooks if h.save() is not None)
         self._staggered = tuple(h for h in self.hooks if h.STAGGERED)
@@ -482,11 +484,9 @@ class Simulation(Remeshing, StateQueries, SimulationDriver):
         self.layout = OutputLayout(name for name in self.layout.names
                                    if name in wanted or name not in OUTPUT_FIELDS)
         self.names = self.layout.names
-        energies = any(name in self.names for name in ENERGY_FIELDS)
-        if energies != self.output_scene.energies:
-            self.output_scene = self.output_scene._replace(energies=energies)
-            self._stepped = None
-            self._last_outputs = {}
+        self.output_scene = self.output_scene._replace(energies=any(name in self.names for name in ENERGY_FIELDS))
+        self._stepped = None
+        self._last_outputs = {}
 
     def _output_row(self) -> np.ndarray:
         if not self._python_outputs:

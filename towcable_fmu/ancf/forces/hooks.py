@@ -41,7 +41,8 @@ class TermHooks:
 
     #: Every output the term can give, in the order it reports them (rows of the contract).
     OUTPUTS: tuple[str, ...] = ()
-    #: The term's element lengths change during a run (the simulation's mesh follows the model's).
+    #: The term's element lengths change during a run (the simulation's mesh follows the model's);
+    #: only such a term has events for :meth:`handle_event`.
     MOVES_MESH = False
     #: The term acts between solver steps (:meth:`before_step`, :meth:`after_step`): the
     #: simulation steps one solver step at a time and records in Python.
