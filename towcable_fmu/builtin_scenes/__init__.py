@@ -66,41 +66,31 @@ def scene_document(name_or_path: str | Path, key: str = "scene",
         A scene that does not exist, invalid TOML, a ``based_on`` that is not a string,
         names no scene or closes a loop.
     """
-    doc, folder = _read(name_or_path, key, relative_to)
-    return _with_bases(doc, folder, [_identity(name_or_path, relative_to)]), folder
+    doc, folder, identity = _read(name_or_path, key, relative_to)
+    return _with_bases(doc, folder, [identity]), folder
 
 
-def _identity(name_or_path: str | Path, relative_to: Path | None) -> str:
-    """What names one scene file, for finding loops of ``based_on``."""
-    path = Path(name_or_path)
-    if _is_path(path):
-        return str(((relative_to or Path.cwd()) / path.expanduser()).resolve())
-    return str(name_or_path)
-
-
-def _is_path(path: Path) -> bool:
-    return path.suffix == ".toml" or path.exists()
-
-
-def _read(name_or_path: str | Path, key: str, relative_to: Path | None) -> tuple[dict[str, Any], Path | None]:
-    """The TOML document of one scene file, and its folder (None: built-in)."""
+def _read(name_or_path: str | Path, key: str,
+          relative_to: Path | None) -> tuple[dict[str, Any], Path | None, str]:
+    """The TOML document of one scene file, its folder (None: built-in) and what names the
+    file (its resolved path, or the built-in name), for finding loops of ``based_on``."""
     path = Path(name_or_path).expanduser()
     names = builtin_scene_names()
-    if _is_path(path):
-        path = (relative_to or Path.cwd()) / path
+    if path.suffix == ".toml" or path.exists():
+        path = ((relative_to or Path.cwd()) / path).resolve()
         if not path.is_file():
             raise SceneError(key, str(name_or_path), "an existing TOML file or a built-in scene name ("
                              + ", ".join(names) + ")")
-        text, folder = path.read_text(encoding="utf-8"), path.parent.resolve()
+        text, folder, identity = path.read_text(encoding="utf-8"), path.parent, str(path)
     elif str(name_or_path) in names:
-        text, folder = builtin_scene_text(str(name_or_path)), None
+        text, folder, identity = builtin_scene_text(str(name_or_path)), None, str(name_or_path)
     else:
         close = difflib.get_close_matches(str(name_or_path), names, n=1)
         hint = f" (did you mean '{close[0]}'?)" if close else ""
         raise SceneError(key, str(name_or_path), "a built-in scene name (" + ", ".join(names) + ")" + hint
                          + " or a path to a .toml file")
     try:
-        return tomllib.loads(text), folder
+        return tomllib.loads(text), folder, identity
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(key, str(name_or_path), f"valid TOML ({exc})") from None
 
@@ -112,11 +102,10 @@ def _with_bases(doc: dict[str, Any], folder: Path | None, chain: list[str]) -> d
         return doc
     if not isinstance(base, str) or not base:
         raise SceneError(BASED_ON, base, "the name of a built-in scene or a path to a TOML file (a string)")
-    identity = _identity(base, folder)
+    under, under_folder, identity = _read(base, BASED_ON, folder)
     if identity in chain:
         raise SceneError(BASED_ON, base, "a scene that is not based on itself (the loop: "
                          + " -> ".join(chain + [identity]) + ")")
-    under, under_folder = _read(base, BASED_ON, folder)
     merged = _merge(_with_bases(under, under_folder, chain + [identity]), doc)
     merged[BASED_ON] = base
     return merged
